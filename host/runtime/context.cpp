@@ -1,0 +1,110 @@
+// Context: owns or borrows the OpenCL objects; builds and caches programs on demand.
+#include "runtime/context_impl.hpp"
+#include "runtime/device_selection.hpp"
+#include "runtime/kernel_sources.hpp"
+
+#include <cstdlib>
+
+namespace msmcl {
+
+namespace detail {
+
+cl::Kernel& ContextImpl::kernel(const std::string& source_file, const std::vector<std::string>& defines,
+                                const std::string& kernel_name) {
+    // Device specifics and variants become #define lines in front of the embedded source.
+    std::string source;
+    for (const std::string& define : defines) {
+        const std::size_t equals = define.find('=');
+        source += "#define " +
+                  (equals == std::string::npos ? define
+                                               : define.substr(0, equals) + ' ' + define.substr(equals + 1)) +
+                  '\n';
+    }
+    source += "#line 1\n";
+    source += assemble_kernel_source(source_file);
+    std::string options = "-cl-std=CL1.2";
+    if (!extra_build_options.empty()) options += ' ' + extra_build_options;
+    return programs.kernel(context, device, source_file, source, options, kernel_name);
+}
+
+cl::CommandQueue ContextImpl::queue_for(const Enqueue& enqueue) const {
+    return enqueue.queue ? cl::CommandQueue(enqueue.queue, true) : queue;
+}
+
+std::vector<cl::Event> wait_list(const Enqueue& enqueue) {
+    std::vector<cl::Event> events;
+    for (cl_event e : enqueue.wait_for) events.emplace_back(e, true);
+    return events;
+}
+
+void complete(const Enqueue& enqueue, const cl::CommandQueue& queue, const cl::Event& last) {
+    if (enqueue.done) {
+        *enqueue.done = last();
+        if (last()) check(clRetainEvent(last()), "clRetainEvent");
+    }
+    if (enqueue.blocking) check(queue.finish(), "clFinish");
+}
+
+} // namespace detail
+
+namespace {
+
+std::unique_ptr<detail::ContextImpl> make_impl(const cl::Device& device, const DeviceInfo& info) {
+    auto impl = std::make_unique<detail::ContextImpl>();
+    cl_int status = CL_SUCCESS;
+    impl->device = device;
+    impl->info = info;
+    impl->context = cl::Context(device, nullptr, nullptr, nullptr, &status);
+    detail::check(status, "clCreateContext");
+    impl->queue = cl::CommandQueue(impl->context, device, 0, &status);
+    detail::check(status, "clCreateCommandQueue");
+    return impl;
+}
+
+void apply_environment(detail::ContextImpl& impl) {
+    if (const char* dir = std::getenv("MSMCL_CACHE_DIR")) impl.programs.set_disk_directory(dir);
+}
+
+} // namespace
+
+Context::Context(const DeviceSelection& selection) {
+    detail::DeviceCandidate chosen = detail::select_device(selection);
+    impl_ = make_impl(chosen.device, chosen.info);
+    apply_environment(*impl_);
+}
+
+Context::Context(cl_context context, cl_device_id device, cl_command_queue queue) {
+    if (!context || !device) throw input_error("msmcl::Context: null cl_context or cl_device_id");
+    impl_ = std::make_unique<detail::ContextImpl>();
+    impl_->context = cl::Context(context, true);
+    impl_->device = cl::Device(device, true);
+    // Describe the borrowed device like an enumerated one.
+    cl::Platform platform(impl_->device.getInfo<CL_DEVICE_PLATFORM>(), true);
+    std::string platform_name;
+    platform.getInfo(CL_PLATFORM_NAME, &platform_name);
+    while (!platform_name.empty() && platform_name.back() == '\0') platform_name.pop_back();
+    impl_->info = detail::describe_device(impl_->device, -1, -1, platform_name);
+    if (queue) {
+        impl_->queue = cl::CommandQueue(queue, true);
+    } else {
+        cl_int status = CL_SUCCESS;
+        impl_->queue = cl::CommandQueue(impl_->context, impl_->device, 0, &status);
+        detail::check(status, "clCreateCommandQueue");
+    }
+    apply_environment(*impl_);
+}
+
+Context::~Context() = default;
+Context::Context(Context&&) noexcept = default;
+Context& Context::operator=(Context&&) noexcept = default;
+
+const DeviceInfo& Context::device() const { return impl_->info; }
+cl_context Context::cl_context_handle() const { return impl_->context(); }
+cl_device_id Context::cl_device_handle() const { return impl_->device(); }
+cl_command_queue Context::cl_queue_handle() const { return impl_->queue(); }
+void Context::finish() { detail::check(impl_->queue.finish(), "clFinish"); }
+void Context::set_binary_cache_dir(const std::string& directory) { impl_->programs.set_disk_directory(directory); }
+void Context::set_extra_build_options(const std::string& options) { impl_->extra_build_options = options; }
+std::size_t Context::programs_built() const { return impl_->programs.programs_built(); }
+
+} // namespace msmcl

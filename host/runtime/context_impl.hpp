@@ -1,0 +1,41 @@
+// What an operation (host/ops/*.cpp) sees of a Context: the OpenCL objects and the
+// program/kernel cache.
+#pragma once
+
+#include "runtime/opencl.hpp"
+#include "runtime/program_cache.hpp"
+
+#include <msmcl/context.hpp>
+#include <msmcl/enqueue.hpp>
+
+#include <string>
+#include <vector>
+
+namespace msmcl::detail {
+
+struct ContextImpl {
+    cl::Context context;
+    cl::Device device;
+    cl::CommandQueue queue;
+    DeviceInfo info;
+    ProgramCache programs;
+    std::string extra_build_options;
+
+    /// A kernel of the embedded program `source_file` ("filter_fused_gpu.cl"), built for
+    /// this device with `defines` ("MSM_FORMAT=2", "MSM_TILE_W=32"; each becomes a
+    /// `#define NAME VALUE` line prepended to the source). Programs and kernel objects
+    /// are cached; the same reference is returned for the same arguments.
+    cl::Kernel& kernel(const std::string& source_file, const std::vector<std::string>& defines,
+                       const std::string& kernel_name);
+
+    /// The queue a call should use: the Enqueue's own, else the Context's.
+    cl::CommandQueue queue_for(const Enqueue& enqueue) const;
+};
+
+/// Wait list of an Enqueue as the bindings want it (retains the events).
+std::vector<cl::Event> wait_list(const Enqueue& enqueue);
+
+/// Hands the last event of a call to the caller (Enqueue::done) and blocks if asked.
+void complete(const Enqueue& enqueue, const cl::CommandQueue& queue, const cl::Event& last);
+
+} // namespace msmcl::detail

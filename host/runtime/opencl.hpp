@@ -1,0 +1,21 @@
+// The one place the Khronos C++ bindings are included, with the version pinned.
+#pragma once
+
+#ifndef CL_HPP_TARGET_OPENCL_VERSION
+#define CL_HPP_TARGET_OPENCL_VERSION 120
+#endif
+#ifndef CL_HPP_MINIMUM_OPENCL_VERSION
+#define CL_HPP_MINIMUM_OPENCL_VERSION 120
+#endif
+#include <CL/opencl.hpp>
+
+#include <msmcl/errors.hpp>
+
+namespace msmcl::detail {
+
+/// Throws opencl_error naming `call` unless `status` is CL_SUCCESS.
+inline void check(cl_int status, const char* call) {
+    if (status != CL_SUCCESS) throw opencl_error(status, call);
+}
+
+} // namespace msmcl::detail

@@ -1,0 +1,10 @@
+// Umbrella header: everything of the C++ API.
+#pragma once
+
+#include <msmcl/context.hpp>
+#include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
+#include <msmcl/formats.hpp>
+#include <msmcl/shade.hpp>
+#include <msmcl/shading.hpp>
+#include <msmcl/version.hpp>

@@ -1,0 +1,49 @@
+// Host versions of the consumer-side shading math in kernels/msm_shading.clh (the very
+// same source compiled as C++, float32), for tools and tests that need the device's
+// results without a device.
+#pragma once
+
+#include <msmcl/formats.hpp>
+#include <msmcl/shade.hpp>
+
+#include <cstdint>
+
+namespace msmcl {
+
+/// Power moments b1..b4 of z in [-1,1] (b0 = 1 implied).
+struct Moments4 {
+    float b1 = 0, b2 = 0, b3 = 0, b4 = 0;
+};
+/// Output of Algorithm 2: two depths y1 <= y2 in [-1,1], weight v2 of y2, offset xi4.
+struct NlqTexel {
+    float y1 = 0, y2 = 0, v2 = 0, xi4 = 0;
+};
+
+/// b' = (1 - alpha) b + alpha (0, bstar, 0, bstar).
+Moments4 bias_moments(const Moments4& b, float alpha, float bstar);
+/// Algorithm 2 (with the float32 guard) on biased single-precision moments.
+NlqTexel nlq_from_moments(const Moments4& biased);
+float psi4(float xi4);
+float psi4_inverse(float psi);
+
+/// Decoders of one texel, given its words as stored in a Texture.
+Moments4 decode_moments128(const std::uint32_t* words);
+Moments4 decode_msm64(const std::uint32_t* words);
+NlqTexel decode_nlq64(const std::uint32_t* words);
+NlqTexel decode_nlq32(std::uint32_t word);
+
+/// Hamburger 4MSM lower bound on the share of depth below zf (Algorithm 1), from biased
+/// moments; the upper bound adds the weight w0 at zf.
+float hamburger4_lower(const Moments4& biased, float zf);
+float hamburger4_upper(const Moments4& biased, float zf);
+/// Algorithm 3 (lower bound) from a decoded nlq texel.
+float nlq_shadow(const NlqTexel& texel, float zf);
+
+/// Shadow intensity of one texel of `map` at internal depth zf (bias of the format
+/// applied), the device's per-texel shading.
+float shade_texel(const Texture& map, int x, int y, float zf);
+/// The whole lookup of the `shade` kernel for one receiver (u, v in texels, z as
+/// rendered), on the host.
+float shade_receiver(const Texture& map, float u, float v, float z, const ShadeOptions& options);
+
+} // namespace msmcl
