@@ -1,0 +1,287 @@
+// filter: depth map -> resolved, blurred, quantized moment shadow map (SPEC sections 2-4).
+#include "runtime/context_impl.hpp"
+
+#include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace msmcl {
+
+namespace {
+
+// Largest width or height accepted (OpenCL image limits are far below this anyway).
+constexpr int kMaxDimension = 65536;
+// The fused kernel's work-group, tile and local memory (kernels/fused_layout.clh).
+constexpr std::size_t kFusedGroupSize = 256;
+constexpr int kFusedTileWidth = 32;
+constexpr int kFusedTileHeight = 24;
+constexpr unsigned long long kFusedLocalBytes = 4ull * (40 * 32 + 7) * sizeof(float);
+
+std::string describe_size(int width, int height, int samples) {
+    std::ostringstream text;
+    text << width << "x" << height << " with " << samples << " sample" << (samples == 1 ? "" : "s");
+    return text.str();
+}
+
+// Width, height and sample count the filter can work with.
+void validate_shape(int width, int height, int samples) {
+    if (width <= 0 || height <= 0) {
+        throw input_error("filter: depth map size " + std::to_string(width) + "x" + std::to_string(height) +
+                          " is empty or negative");
+    }
+    if (width > kMaxDimension || height > kMaxDimension) {
+        throw input_error("filter: depth map size " + std::to_string(width) + "x" + std::to_string(height) +
+                          " exceeds the limit of " + std::to_string(kMaxDimension) + " texels per side");
+    }
+    if (!is_supported_sample_count(samples)) {
+        throw input_error("filter: unsupported sample count " + std::to_string(samples) +
+                          " (supported: 1, 2, 4, 8, 16)");
+    }
+}
+
+std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }
+
+// Buffers the call allocates or reads, against the device's largest allocation.
+void validate_device_sizes(const DeviceInfo& device, int width, int height, int samples, Format format,
+                           FilterKernel kernel) {
+    const unsigned long long texels = texel_count(width, height);
+    const auto check = [&](unsigned long long bytes, const char* what) {
+        if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes) {
+            throw input_error(std::string("filter: ") + what + " for a " + describe_size(width, height, samples) +
+                              " depth map needs " + std::to_string(bytes) + " bytes, more than the device's " +
+                              "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
+        }
+    };
+    check(texels * samples * sizeof(float), "the depth buffer");
+    check(texels * texel_bytes(format), "the texture");
+    if (kernel == FilterKernel::three_pass) check(texels * 4 * sizeof(float), "the three-pass moment buffer");
+}
+
+// The first NaN, Inf or out-of-range depth value, named by texel and sample.
+void validate_depth_values(const DepthImage& depth, DepthRange range) {
+    const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
+    for (int y = 0; y < depth.height; ++y) {
+        for (int x = 0; x < depth.width; ++x) {
+            for (int s = 0; s < depth.samples; ++s) {
+                const float d = depth.at(x, y, s);
+                if (std::isfinite(d) && d >= lowest && d <= 1.0f) continue;
+                std::ostringstream text;
+                text << "filter: depth at texel (" << x << ", " << y << ") sample " << s << " is " << d;
+                if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
+                throw input_error(text.str());
+            }
+        }
+    }
+}
+
+bool device_runs_fused(const DeviceInfo& device) {
+    return device.max_work_group_size >= kFusedGroupSize && device.local_mem_bytes >= kFusedLocalBytes;
+}
+
+// automatic -> fused_paper where the device can run it, else three_pass.
+FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
+    if (requested == FilterKernel::automatic)
+        return device_runs_fused(device) ? FilterKernel::fused_paper : FilterKernel::three_pass;
+    if (requested == FilterKernel::fused_paper && !device_runs_fused(device)) {
+        throw device_error("filter: device '" + device.name + "' cannot run the fused kernel (needs " +
+                           std::to_string(kFusedGroupSize) + " work-items per group and " +
+                           std::to_string(kFusedLocalBytes) + " bytes of local memory; it has " +
+                           std::to_string(device.max_work_group_size) + " and " +
+                           std::to_string(device.local_mem_bytes) + ")");
+    }
+    return requested;
+}
+
+// Compile-time variant: sample count, format (msmcl::Format order), depth convention.
+std::vector<std::string> kernel_defines(int samples, const FilterOptions& options) {
+    return {"MSM_SAMPLES=" + std::to_string(samples),
+            "MSM_FORMAT=" + std::to_string(static_cast<int>(options.format)),
+            "MSM_DEPTH_ZERO_ONE=" + std::string(options.depth_range == DepthRange::zero_one ? "1" : "0")};
+}
+
+// Sets the 5 distinct taps w0 (centre) .. w4 as float arguments starting at `first`.
+void set_tap_arguments(cl::Kernel& kernel, cl_uint first, const std::array<float, 9>& taps) {
+    for (cl_uint i = 0; i < 5; ++i) detail::check(kernel.setArg(first + i, taps[4 + i]), "clSetKernelArg");
+}
+
+cl_ulong buffer_size(cl_mem buffer) {
+    std::size_t bytes = 0;
+    detail::check(clGetMemObjectInfo(buffer, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr), "clGetMemObjectInfo");
+    return bytes;
+}
+
+// Enqueues the whole filter on `queue`; returns the event of its last command.
+cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
+                         const cl::Buffer& depth, int width, int height, int samples, const cl::Buffer& texture,
+                         const FilterOptions& options) {
+    const std::array<float, 9> taps = gaussian_taps(options.sigma);
+    const FilterKernel kernel_choice = choose_kernel(impl.info, options.kernel);
+    validate_device_sizes(impl.info, width, height, samples, options.format, kernel_choice);
+    const std::vector<std::string> defines = kernel_defines(samples, options);
+    const cl::NDRange image(static_cast<std::size_t>(width), static_cast<std::size_t>(height));
+    cl::Event last;
+
+    if (kernel_choice == FilterKernel::fused_paper) {
+        cl::Kernel& fused = impl.kernel("filter_fused_gpu.cl", defines, "filter_fused_gpu");
+        // The built kernel may still need fewer work-items than the device maximum.
+        const std::size_t kernel_limit = fused.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device);
+        if (kernel_limit < kFusedGroupSize) {
+            throw device_error("filter: device '" + impl.info.name + "' runs the fused kernel with at most " +
+                               std::to_string(kernel_limit) + " work-items per group, it needs " +
+                               std::to_string(kFusedGroupSize));
+        }
+        detail::check(fused.setArg(0, depth), "clSetKernelArg");
+        detail::check(fused.setArg(1, width), "clSetKernelArg");
+        detail::check(fused.setArg(2, height), "clSetKernelArg");
+        detail::check(fused.setArg(3, texture), "clSetKernelArg");
+        set_tap_arguments(fused, 4, taps);
+        // One work-group of 256 per 32x24 output tile.
+        const std::size_t groups_x = (static_cast<std::size_t>(width) + kFusedTileWidth - 1) / kFusedTileWidth;
+        const std::size_t groups_y = (static_cast<std::size_t>(height) + kFusedTileHeight - 1) / kFusedTileHeight;
+        detail::check(queue.enqueueNDRangeKernel(fused, cl::NullRange, cl::NDRange(groups_x * kFusedGroupSize, groups_y),
+                                                 cl::NDRange(kFusedGroupSize, 1), &waits, &last),
+                      "clEnqueueNDRangeKernel(filter_fused_gpu)");
+        return last;
+    }
+
+    // Three passes through two float4 moment buffers.
+    cl_int status = CL_SUCCESS;
+    const std::size_t moment_bytes = texel_count(width, height) * 4 * sizeof(float);
+    cl::Buffer resolved(impl.context, CL_MEM_READ_WRITE, moment_bytes, nullptr, &status);
+    detail::check(status, "clCreateBuffer(three-pass moments)");
+    cl::Buffer rows(impl.context, CL_MEM_READ_WRITE, moment_bytes, nullptr, &status);
+    detail::check(status, "clCreateBuffer(three-pass moments)");
+
+    // (a) resolve
+    cl::Kernel& resolve = impl.kernel("filter_three_pass.cl", defines, "filter_resolve");
+    detail::check(resolve.setArg(0, depth), "clSetKernelArg");
+    detail::check(resolve.setArg(1, width), "clSetKernelArg");
+    detail::check(resolve.setArg(2, height), "clSetKernelArg");
+    detail::check(resolve.setArg(3, resolved), "clSetKernelArg");
+    cl::Event resolved_event;
+    detail::check(queue.enqueueNDRangeKernel(resolve, cl::NullRange, image, cl::NullRange, &waits, &resolved_event),
+                  "clEnqueueNDRangeKernel(filter_resolve)");
+
+    // (b) horizontal blur; events chain the passes even on an out-of-order queue.
+    cl::Kernel& horizontal = impl.kernel("filter_three_pass.cl", defines, "filter_horizontal");
+    detail::check(horizontal.setArg(0, resolved), "clSetKernelArg");
+    detail::check(horizontal.setArg(1, width), "clSetKernelArg");
+    detail::check(horizontal.setArg(2, height), "clSetKernelArg");
+    detail::check(horizontal.setArg(3, rows), "clSetKernelArg");
+    set_tap_arguments(horizontal, 4, taps);
+    const std::vector<cl::Event> after_resolve{resolved_event};
+    cl::Event rows_event;
+    detail::check(queue.enqueueNDRangeKernel(horizontal, cl::NullRange, image, cl::NullRange, &after_resolve, &rows_event),
+                  "clEnqueueNDRangeKernel(filter_horizontal)");
+
+    // (c) vertical blur, bias, quantize
+    cl::Kernel& vertical = impl.kernel("filter_three_pass.cl", defines, "filter_vertical_quantize");
+    detail::check(vertical.setArg(0, rows), "clSetKernelArg");
+    detail::check(vertical.setArg(1, width), "clSetKernelArg");
+    detail::check(vertical.setArg(2, height), "clSetKernelArg");
+    detail::check(vertical.setArg(3, texture), "clSetKernelArg");
+    set_tap_arguments(vertical, 4, taps);
+    const std::vector<cl::Event> after_rows{rows_event};
+    detail::check(queue.enqueueNDRangeKernel(vertical, cl::NullRange, image, cl::NullRange, &after_rows, &last),
+                  "clEnqueueNDRangeKernel(filter_vertical_quantize)");
+    // The temporaries are released here; OpenCL frees them once the kernels are done.
+    return last;
+}
+
+} // namespace
+
+std::array<float, 9> gaussian_taps(float sigma) {
+    if (!std::isfinite(sigma) || sigma < 0.0f)
+        throw input_error("filter: sigma must be finite and >= 0, got " + std::to_string(sigma));
+    std::array<float, 9> taps{};
+    // sigma 0: a unit impulse, no blur.
+    if (sigma == 0.0f) {
+        taps[4] = 1.0f;
+        return taps;
+    }
+    // Weights in double, normalized, rounded once to float (symmetric by construction).
+    double weights[5];
+    double total = 0.0;
+    for (int i = 0; i <= 4; ++i) {
+        weights[i] = std::exp(-double(i * i) / (2.0 * double(sigma) * double(sigma)));
+        total += i == 0 ? weights[i] : 2.0 * weights[i];
+    }
+    for (int i = 0; i <= 4; ++i) {
+        taps[4 + i] = static_cast<float>(weights[i] / total);
+        taps[4 - i] = taps[4 + i];
+    }
+    return taps;
+}
+
+bool is_supported_sample_count(int samples) noexcept {
+    return samples == 1 || samples == 2 || samples == 4 || samples == 8 || samples == 16;
+}
+
+Texture filter(Context& context, const DepthImage& depth, const FilterOptions& options) {
+    // Validate everything before touching the device.
+    validate_shape(depth.width, depth.height, depth.samples);
+    const std::size_t values = texel_count(depth.width, depth.height) * depth.samples;
+    if (depth.depth.size() != values) {
+        throw input_error("filter: depth map " + describe_size(depth.width, depth.height, depth.samples) +
+                          " needs " + std::to_string(values) + " values, got " + std::to_string(depth.depth.size()));
+    }
+    gaussian_taps(options.sigma); // throws input_error for a bad sigma
+    validate_depth_values(depth, options.depth_range);
+    detail::ContextImpl& impl = context.impl();
+    validate_device_sizes(impl.info, depth.width, depth.height, depth.samples, options.format,
+                          choose_kernel(impl.info, options.kernel));
+
+    // Upload, run on the Context's queue, read back.
+    Texture texture;
+    texture.format = options.format;
+    texture.width = depth.width;
+    texture.height = depth.height;
+    texture.words.resize(texel_count(depth.width, depth.height) * texel_words(options.format));
+    cl_int status = CL_SUCCESS;
+    cl::Buffer depth_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, values * sizeof(float),
+                            const_cast<float*>(depth.depth.data()), &status);
+    detail::check(status, "clCreateBuffer(depth)");
+    const std::size_t texture_bytes = texture.words.size() * sizeof(std::uint32_t);
+    cl::Buffer texture_buffer(impl.context, CL_MEM_WRITE_ONLY, texture_bytes, nullptr, &status);
+    detail::check(status, "clCreateBuffer(texture)");
+    const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
+                                          texture_buffer, options);
+    const std::vector<cl::Event> after_filter{done};
+    detail::check(impl.queue.enqueueReadBuffer(texture_buffer, CL_TRUE, 0, texture_bytes, texture.words.data(),
+                                               &after_filter),
+                  "clEnqueueReadBuffer(texture)");
+    return texture;
+}
+
+void filter(Context& context, const DeviceDepth& depth, cl_mem texture, const FilterOptions& options,
+            const Enqueue& enqueue) {
+    validate_shape(depth.width, depth.height, depth.samples);
+    if (!depth.buffer) throw input_error("filter: DeviceDepth::buffer is null");
+    if (!texture) throw input_error("filter: the texture buffer is null");
+    gaussian_taps(options.sigma); // throws input_error for a bad sigma
+    // The caller's buffers must hold the whole depth map and texture.
+    const cl_ulong depth_bytes = texel_count(depth.width, depth.height) * depth.samples * sizeof(float);
+    const cl_ulong texture_bytes = texel_count(depth.width, depth.height) * texel_bytes(options.format);
+    if (buffer_size(depth.buffer) < depth_bytes) {
+        throw input_error("filter: the depth buffer holds " + std::to_string(buffer_size(depth.buffer)) +
+                          " bytes, a " + describe_size(depth.width, depth.height, depth.samples) + " map needs " +
+                          std::to_string(depth_bytes));
+    }
+    if (buffer_size(texture) < texture_bytes) {
+        throw input_error("filter: the texture buffer holds " + std::to_string(buffer_size(texture)) + " bytes, a " +
+                          std::to_string(depth.width) + "x" + std::to_string(depth.height) + " " +
+                          format_name(options.format) + " texture needs " + std::to_string(texture_bytes));
+    }
+    detail::ContextImpl& impl = context.impl();
+    const cl::CommandQueue queue = impl.queue_for(enqueue);
+    const cl::Event last = enqueue_filter(impl, queue, detail::wait_list(enqueue), cl::Buffer(depth.buffer, true),
+                                          depth.width, depth.height, depth.samples, cl::Buffer(texture, true), options);
+    detail::complete(enqueue, queue, last);
+}
+
+} // namespace msmcl

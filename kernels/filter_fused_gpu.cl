@@ -1,0 +1,124 @@
+// The fused filter kernel of Peters 2017, section 4.1 (SPEC section 4): one work-group of
+// 256 work-items (8 sub-groups of 32) turns a 40x32 input block (output block 32x24 plus a
+// guard band of 4) into 32x24 filtered, quantized texels, all in local memory:
+// resolve -> horizontal 9-tap -> vertical 9-tap -> readout + quantize, one global write.
+// Layout and work-item mapping: fused_layout.clh (verified bank-conflict free offline by
+// tests/fused_layout_test.cpp).
+// Compile-time: MSM_SAMPLES (1, 2, 4, 8, 16), MSM_FORMAT (0 moments128, 1 msm64, 2 nlq64,
+// 3 nlq32; the order of msmcl::Format), MSM_DEPTH_ZERO_ONE (1 for depth in [0,1]).
+// Taps: w0 (centre) .. w4, as gaussian_taps() gives them; sums run over i = -4..4 with fma
+// so that kernels/filter_three_pass.cl reproduces them bit for bit.
+#include "msm_formats.clh"
+#include "fused_layout.clh"
+
+#if MSM_FORMAT == 2 || MSM_FORMAT == 3
+// nlq formats: blur the moments of (z - c), c = the block's centre depth (SPEC section 3).
+#define FILTER_SHIFTED 1
+#else
+#define FILTER_SHIFTED 0
+#endif
+
+// Moments of (z - shift) averaged over the samples of texel `texel`.
+static inline msm_moments resolve_texel(__global const float* depth, size_t texel, float shift) {
+    __global const float* samples = depth + texel * MSM_SAMPLES;
+    msm_moments sum = msm_moments_of(msm_internal_depth(samples[0], MSM_DEPTH_ZERO_ONE) - shift);
+    for (int s = 1; s < MSM_SAMPLES; ++s)
+        sum = msm_moments_add(sum, msm_moments_of(msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE) - shift));
+    return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
+}
+
+// 9-tap sum of v[0..8] with weights w4 w3 w2 w1 w0 w1 w2 w3 w4, in order i = -4..4.
+#define FILTER_TAPS9(v, k)                                                                    \
+    fma(w4, v[(k) + 8], fma(w3, v[(k) + 7], fma(w2, v[(k) + 6], fma(w1, v[(k) + 5],           \
+    fma(w0, v[(k) + 4], fma(w1, v[(k) + 3], fma(w2, v[(k) + 2], fma(w3, v[(k) + 1],           \
+    w4 * v[(k)]))))))))
+
+__kernel __attribute__((reqd_work_group_size(FUSED_GROUP_SIZE, 1, 1)))
+void filter_fused_gpu(__global const float* depth, int width, int height, __global uint* texture,
+                      float w0, float w1, float w2, float w3, float w4) {
+    __local float block[FUSED_LOCAL_FLOATS];
+    const uint id = (uint)get_local_id(0);
+    const int out_x0 = (int)get_group_id(0) * FUSED_OUT_W;
+    const int out_y0 = (int)get_group_id(1) * FUSED_OUT_H;
+
+    // Shift: internal depth of sample 0 of the block's centre texel (clamped into the image).
+#if FILTER_SHIFTED
+    const int centre_x = min(out_x0 + FUSED_OUT_W / 2, width - 1);
+    const int centre_y = min(out_y0 + FUSED_OUT_H / 2, height - 1);
+    const float shift = msm_internal_depth(depth[((size_t)centre_y * width + centre_x) * MSM_SAMPLES],
+                                           MSM_DEPTH_ZERO_ONE);
+#else
+    const float shift = 0.0f;
+#endif
+
+    // Phase 1, resolve: 5 rounds, one texel each; guard-band texels clamp to the image edge.
+    for (uint round = 0; round < FUSED_RESOLVE_ROUNDS; ++round) {
+        const uint x = fused_resolve_x(id, round);
+        const uint y = fused_resolve_y(id);
+        const int gx = clamp(out_x0 - FUSED_GUARD + (int)x, 0, width - 1);
+        const int gy = clamp(out_y0 - FUSED_GUARD + (int)y, 0, height - 1);
+        const msm_moments m = resolve_texel(depth, (size_t)gy * width + gx, shift);
+        block[fused_local_index(1, x, y)] = m.b1;
+        block[fused_local_index(2, x, y)] = m.b2;
+        block[fused_local_index(3, x, y)] = m.b3;
+        block[fused_local_index(4, x, y)] = m.b4;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    // Phase 2, horizontal: one moment and one half per sub-group, one row per work-item;
+    // 24 values in registers, 16 outputs written where no other work-item reads.
+    {
+        const uint j = fused_blur_moment(id);
+        const uint y = fused_row_y(id);
+        const uint read_x = fused_row_read_x(id);
+        const uint write_x = fused_row_write_x(id);
+        float row[FUSED_ROW_READS];
+        for (uint k = 0; k < FUSED_ROW_READS; ++k) row[k] = block[fused_local_index(j, read_x + k, y)];
+        for (uint k = 0; k < FUSED_ROW_WRITES; ++k) block[fused_local_index(j, write_x + k, y)] = FILTER_TAPS9(row, k);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    // Phase 3, vertical: the sub-group's 16x32 strip, upper and lower halves; 20 values in
+    // registers, barrier (the halves overlap in rows 12..19), 12 outputs in place.
+    {
+        const uint j = fused_blur_moment(id);
+        const uint x = fused_column_x(id);
+        const uint read_y = fused_column_read_y(id);
+        float column[FUSED_COLUMN_READS];
+        for (uint k = 0; k < FUSED_COLUMN_READS; ++k) column[k] = block[fused_local_index(j, x, read_y + k)];
+        barrier(CLK_LOCAL_MEM_FENCE);
+        const uint write_y = fused_column_write_y(id);
+        for (uint k = 0; k < FUSED_COLUMN_WRITES; ++k)
+            block[fused_local_index(j, x, write_y + k)] = FILTER_TAPS9(column, k);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    // Phase 4, readout: 3 texels per work-item, one output row per sub-group at a time;
+    // quantize and write each texel once.
+    for (uint round = 0; round < FUSED_READOUT_ROUNDS; ++round) {
+        const uint ox = fused_readout_ox(id);
+        const uint oy = fused_readout_oy(id, round);
+        const int gx = out_x0 + (int)ox;
+        const int gy = out_y0 + (int)oy;
+        if (gx >= width || gy >= height) continue;
+        const uint sx = fused_stored_x(ox);
+        const uint sy = fused_stored_y(oy);
+        msm_moments m;
+        m.b1 = block[fused_local_index(1, sx, sy)];
+        m.b2 = block[fused_local_index(2, sx, sy)];
+        m.b3 = block[fused_local_index(3, sx, sy)];
+        m.b4 = block[fused_local_index(4, sx, sy)];
+        const size_t texel = (size_t)gy * width + gx;
+#if MSM_FORMAT == 0
+        vstore4((uint4)(as_uint(m.b1), as_uint(m.b2), as_uint(m.b3), as_uint(m.b4)), texel, texture);
+#elif MSM_FORMAT == 1
+        const msm_word2 code = msm_encode_msm64(m);
+        vstore2((uint2)(code.w0, code.w1), texel, texture);
+#elif MSM_FORMAT == 2
+        const msm_word2 code = msm_encode_nlq64(msm_nlq_from_shifted_moments(m, shift));
+        vstore2((uint2)(code.w0, code.w1), texel, texture);
+#else
+        texture[texel] = msm_encode_nlq32(msm_nlq_from_shifted_moments(m, shift));
+#endif
+    }
+}
