@@ -1,0 +1,254 @@
+// msmcl-scene: a procedural test scene in the spirit of seed 003, Figure 1: a slim
+// railing casts a short-range shadow onto a banner hanging just behind it, and the banner
+// casts onto the ground. Depth is exact (ray-box and ray-plane intersections in double)
+// at every standard D3D MSAA sample position of an orthographic directional light.
+// Also writes the receivers of a perspective view (each pixel's visible surface point in
+// light space), the view's lighting terms and previews.
+#include "geometry.hpp"
+#include "msaa_pattern.hpp"
+
+#include "io/exr_io.hpp"
+#include "io/png_io.hpp"
+
+#include <msmcl/errors.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+namespace {
+
+using msmcl::data::Vec3;
+
+enum class Material { sky, ground, banner, railing };
+
+struct Box {
+    Vec3 low, high;
+    Material material;
+};
+
+struct Hit {
+    double t = std::numeric_limits<double>::infinity();
+    Vec3 normal;
+    Material material = Material::sky;
+};
+
+/// A ground patch at y = 0, a banner (thin box) and a railing of posts, rails and balusters.
+class RailingScene {
+public:
+    RailingScene() {
+        // Banner: 2.2 x 1.0, hanging between y = 0.5 and 1.5, 6 mm thick, centred on z = 0.
+        boxes_.push_back({{-1.1, 0.5, -0.006}, {1.1, 1.5, 0.006}, Material::banner});
+        // Railing 14 cm in front of it: 5 posts, a top and a bottom rail, slim balusters.
+        const double z = 0.14;
+        for (int i = 0; i < 5; ++i) {
+            const double x = -1.2 + 0.6 * i;
+            boxes_.push_back({{x - 0.02, 0.0, z - 0.02}, {x + 0.02, 1.12, z + 0.02}, Material::railing});
+        }
+        boxes_.push_back({{-1.23, 1.08, z - 0.025}, {1.23, 1.13, z + 0.025}, Material::railing});
+        boxes_.push_back({{-1.22, 0.30, z - 0.012}, {1.22, 0.33, z + 0.012}, Material::railing});
+        for (int i = 0; i < 24; ++i) {
+            const double x = -1.15 + 0.1 * i;
+            boxes_.push_back({{x - 0.008, 0.33, z - 0.008}, {x + 0.008, 1.08, z + 0.008}, Material::railing});
+        }
+    }
+
+    /// Points the light's map must cover: every box corner and a ground patch around them.
+    std::vector<Vec3> extent() const {
+        std::vector<Vec3> points;
+        for (const Box& box : boxes_)
+            for (int corner = 0; corner < 8; ++corner)
+                points.push_back({corner & 1 ? box.high.x : box.low.x, corner & 2 ? box.high.y : box.low.y,
+                                  corner & 4 ? box.high.z : box.low.z});
+        for (double x : {ground_low_.x, ground_high_.x})
+            for (double z : {ground_low_.z, ground_high_.z}) points.push_back({x, 0.0, z});
+        return points;
+    }
+
+    /// The nearest surface along origin + t direction (t > 0).
+    Hit intersect(Vec3 origin, Vec3 direction) const {
+        Hit nearest;
+        if (direction.y < 0 && origin.y > 0) {
+            const double t = -origin.y / direction.y;
+            const Vec3 p = origin + t * direction;
+            if (p.x >= ground_low_.x && p.x <= ground_high_.x && p.z >= ground_low_.z && p.z <= ground_high_.z) {
+                nearest.t = t;
+                nearest.normal = {0, 1, 0};
+                nearest.material = Material::ground;
+            }
+        }
+        for (const Box& box : boxes_) {
+            // Slabs: the entry is the last of the three axis entries.
+            double enter = -std::numeric_limits<double>::infinity(), leave = std::numeric_limits<double>::infinity();
+            int enter_axis = 0;
+            const double o[3] = {origin.x, origin.y, origin.z}, d[3] = {direction.x, direction.y, direction.z};
+            const double lo[3] = {box.low.x, box.low.y, box.low.z}, hi[3] = {box.high.x, box.high.y, box.high.z};
+            bool missed = false;
+            for (int axis = 0; axis < 3 && !missed; ++axis) {
+                if (d[axis] == 0.0) {
+                    missed = o[axis] < lo[axis] || o[axis] > hi[axis];
+                    continue;
+                }
+                double t0 = (lo[axis] - o[axis]) / d[axis], t1 = (hi[axis] - o[axis]) / d[axis];
+                if (t0 > t1) std::swap(t0, t1);
+                if (t0 > enter) {
+                    enter = t0;
+                    enter_axis = axis;
+                }
+                leave = std::min(leave, t1);
+            }
+            if (missed || enter > leave || enter <= 0.0 || enter >= nearest.t) continue;
+            nearest.t = enter;
+            nearest.material = box.material;
+            const double sign = d[enter_axis] > 0 ? -1.0 : 1.0;
+            nearest.normal = {enter_axis == 0 ? sign : 0.0, enter_axis == 1 ? sign : 0.0, enter_axis == 2 ? sign : 0.0};
+        }
+        return nearest;
+    }
+
+private:
+    std::vector<Box> boxes_;
+    // The ground is a finite patch (all of it inside the shadow map); beyond it is sky.
+    Vec3 ground_low_{-1.7, 0.0, -2.4};
+    Vec3 ground_high_{2.3, 0.0, 0.9};
+};
+
+double albedo(Material material, Vec3 p) {
+    switch (material) {
+    case Material::ground: {
+        // A faint 0.5 m checkerboard makes the ground read as a floor.
+        const bool odd = (static_cast<long>(std::floor(p.x * 2)) + static_cast<long>(std::floor(p.z * 2))) & 1;
+        return odd ? 0.50 : 0.58;
+    }
+    case Material::banner: return 0.85;
+    case Material::railing: return 0.30;
+    case Material::sky: return 0.0;
+    }
+    return 0.0;
+}
+
+struct Options {
+    int width = 256, height = 0, samples = 4;
+    int view_width = 320, view_height = 240;
+    bool half = false;
+    std::string depth_path, receivers_path, lighting_path, hard_preview_path, depth_preview_path;
+};
+
+int run(const Options& options) {
+    const int height = options.height > 0 ? options.height : options.width;
+    const RailingScene scene;
+    // Light from the upper left front, shining down and back onto the banner and the ground.
+    const Vec3 light_direction = msmcl::data::normalize({0.35, -0.55, -0.75});
+    const msmcl::data::OrthographicLight light =
+        msmcl::data::fit_light(light_direction, scene.extent(), options.width, height);
+
+    // Shadow map: one light ray per MSAA sample; depth of the nearest surface.
+    const std::vector<msmcl::data::SampleOffset> pattern = msmcl::data::standard_sample_pattern(options.samples);
+    msmcl::DepthImage depth;
+    depth.width = options.width;
+    depth.height = height;
+    depth.samples = options.samples;
+    depth.depth.resize(static_cast<std::size_t>(options.width) * height * options.samples);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < options.width; ++x)
+            for (int s = 0; s < options.samples; ++s) {
+                const double u = x + 0.5 + pattern[s].x16 / 16.0, v = y + 0.5 + pattern[s].y16 / 16.0;
+                const Vec3 start = light.near_point(u, v);
+                const Hit hit = scene.intersect(start, light.forward);
+                // A ray that misses everything sees the far plane.
+                const double d = hit.material == Material::sky ? 1.0 : light.depth(start + hit.t * light.forward);
+                depth.depth[(static_cast<std::size_t>(y) * options.width + x) * options.samples + s] =
+                    static_cast<float>(std::clamp(d, 0.0, 1.0));
+            }
+    msmcl::io::write_depth_exr(options.depth_path, depth,
+                               options.half ? msmcl::io::SampleType::half : msmcl::io::SampleType::float32);
+    if (!options.depth_preview_path.empty()) {
+        std::vector<float> first_sample(static_cast<std::size_t>(options.width) * height);
+        for (std::size_t t = 0; t < first_sample.size(); ++t) first_sample[t] = depth.depth[t * options.samples];
+        msmcl::io::write_png_preview(options.depth_preview_path, options.width, height, 1, first_sample);
+    }
+    if (options.receivers_path.empty() && options.lighting_path.empty() && options.hard_preview_path.empty())
+        return 0;
+
+    // View: each pixel's visible point, in light space, plus its lighting terms.
+    const msmcl::data::PerspectiveCamera camera({0.9, 1.9, 3.4}, {0.3, 0.55, -0.6}, 42.0, options.view_width,
+                                                options.view_height);
+    msmcl::io::ReceiverGrid receivers;
+    receivers.width = options.view_width;
+    receivers.height = options.view_height;
+    const std::size_t pixels = static_cast<std::size_t>(options.view_width) * options.view_height;
+    std::vector<float> ambient(pixels), direct(pixels), hard(pixels);
+    const double ambient_share = 0.3;
+    for (int py = 0; py < options.view_height; ++py)
+        for (int px = 0; px < options.view_width; ++px) {
+            const std::size_t i = static_cast<std::size_t>(py) * options.view_width + px;
+            const Hit hit = scene.intersect(camera.position, camera.ray(px + 0.5, py + 0.5));
+            if (hit.material == Material::sky) {
+                // Sky: a lit receiver at the map's near plane, shown bright.
+                receivers.points.u.push_back(0.5f);
+                receivers.points.v.push_back(0.5f);
+                receivers.points.z.push_back(0.0f);
+                ambient[i] = 0.9f;
+                direct[i] = 0.0f;
+                hard[i] = 0.9f;
+                continue;
+            }
+            const Vec3 p = camera.position + hit.t * camera.ray(px + 0.5, py + 0.5);
+            const double u = light.texel_u(p), v = light.texel_v(p), d = light.depth(p);
+            receivers.points.u.push_back(static_cast<float>(u));
+            receivers.points.v.push_back(static_cast<float>(v));
+            receivers.points.z.push_back(static_cast<float>(std::clamp(d, 0.0, 1.0)));
+            const double a = albedo(hit.material, p);
+            const double lambert = std::max(0.0, -dot(hit.normal, light.forward));
+            ambient[i] = static_cast<float>(a * ambient_share);
+            direct[i] = static_cast<float>(a * (1 - ambient_share) * lambert);
+
+            // Unfiltered reference: share of the nearest texel's samples that do not occlude.
+            const int tx = std::clamp(static_cast<int>(std::floor(u)), 0, options.width - 1);
+            const int ty = std::clamp(static_cast<int>(std::floor(v)), 0, height - 1);
+            int lit = 0;
+            for (int s = 0; s < options.samples; ++s) lit += depth.at(tx, ty, s) >= d - 2e-3 ? 1 : 0;
+            hard[i] = ambient[i] + direct[i] * static_cast<float>(lit) / options.samples;
+        }
+    if (!options.receivers_path.empty()) msmcl::io::write_receivers_exr(options.receivers_path, receivers);
+    if (!options.lighting_path.empty()) {
+        msmcl::io::ExrImage lighting;
+        lighting.width = options.view_width;
+        lighting.height = options.view_height;
+        lighting.channels = {{"ambient", msmcl::io::SampleType::float32, ambient, {}},
+                             {"direct", msmcl::io::SampleType::float32, direct, {}}};
+        msmcl::io::write_exr(options.lighting_path, lighting);
+    }
+    if (!options.hard_preview_path.empty())
+        msmcl::io::write_png_preview(options.hard_preview_path, options.view_width, options.view_height, 1, hard);
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"msmcl-scene: railing + banner + ground test scene (exact MSAA depth, receivers of a view)",
+                 "msmcl-scene"};
+    Options options;
+    app.add_option("--depth", options.depth_path, "depth EXR to write (Z or sample<N>.Z, range [0,1])")->required();
+    app.add_option("--width", options.width, "shadow map width")->capture_default_str()->check(CLI::Range(8, 16384));
+    app.add_option("--height", options.height, "shadow map height (default: width)")->check(CLI::Range(8, 16384));
+    app.add_option("--samples", options.samples, "MSAA samples: 1, 2, 4, 8, 16")
+        ->capture_default_str()
+        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    app.add_flag("--half", options.half, "store depth as HALF instead of FLOAT");
+    app.add_option("--receivers", options.receivers_path, "receivers EXR (U, V, Z) of the view");
+    app.add_option("--view-width", options.view_width, "view width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
+    app.add_option("--view-height", options.view_height, "view height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
+    app.add_option("--lighting", options.lighting_path, "EXR with the view's ambient and direct terms (for msmcl-preview)");
+    app.add_option("--hard-preview", options.hard_preview_path, "PNG of the view with unfiltered hard shadows");
+    app.add_option("--depth-preview", options.depth_preview_path, "PNG of sample 0 of the depth map");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        return run(options);
+    } catch (const std::exception& e) {
+        std::cerr << "msmcl-scene: " << e.what() << std::endl;
+        return dynamic_cast<const msmcl::input_error*>(&e) ? 2 : 1;
+    }
+}

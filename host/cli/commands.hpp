@@ -1,0 +1,46 @@
+// The msmcl subcommands: each parses nothing itself, reads its inputs through msmcl::io,
+// calls the public API and writes its output through msmcl::io.
+#pragma once
+
+#include <msmcl/context.hpp>
+
+#include <stdexcept>
+#include <string>
+
+namespace msmcl::cli {
+
+/// A bad command line that CLI11 cannot see (bad option values): exit code 2.
+class usage_error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct FilterArguments {
+    std::string input;
+    std::string output;
+    std::string format;
+    std::string sigma = "2.4";
+    std::string depth_range = "0,1";
+};
+
+struct ShadeArguments {
+    std::string map;
+    std::string receivers;
+    std::string output;
+    std::string lookup = "bilinear";
+    std::string depth_bias = "1e-3";
+    std::string depth_range; ///< empty: the map's msmcl:depthRange
+};
+
+/// Global options shared by every subcommand.
+struct GlobalArguments {
+    std::string device; ///< empty: default selection (MSMCL_DEVICE, else first GPU, ...)
+    DeviceSelection selection() const;
+};
+
+void run_filter(const GlobalArguments& global, const FilterArguments& arguments);
+void run_shade(const GlobalArguments& global, const ShadeArguments& arguments);
+/// Prints one line per device to stdout and marks the one a Context would pick.
+void run_devices(const GlobalArguments& global);
+
+} // namespace msmcl::cli

@@ -1,0 +1,119 @@
+// msmcl: filter depth maps into moment shadow maps and shade receivers with them.
+// Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
+// Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>".
+#include "cli/commands.hpp"
+
+#include <msmcl/errors.hpp>
+#include <msmcl/version.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <new>
+#include <string>
+
+namespace {
+
+constexpr int exit_bad_input = 2;
+constexpr int exit_runtime_failure = 1;
+
+/// One line: newlines (e.g. from a build log) become "; ".
+std::string one_line(std::string text) {
+    std::string line;
+    for (char c : text) {
+        if (c == '\r') continue;
+        if (c == '\n') {
+            if (!line.empty() && line.back() != ' ') line += "; ";
+        } else {
+            line += c;
+        }
+    }
+    while (!line.empty() && (line.back() == ' ' || line.back() == ';')) line.pop_back();
+    const std::size_t longest = 2000;
+    if (line.size() > longest) line = line.substr(0, longest) + "...";
+    return line;
+}
+
+int report(const std::string& problem, int exit_code) {
+    std::cerr << "msmcl: " << one_line(problem) << std::endl;
+    return exit_code;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"msmcl: moment shadow maps on OpenCL (filter depth maps, shade receivers)", "msmcl"};
+    app.set_version_flag("--version", std::string("msmcl ") + msmcl::version_string);
+    app.require_subcommand(1);
+    app.footer("Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.");
+    // Global options may also follow the subcommand.
+    app.fallthrough();
+
+    msmcl::cli::GlobalArguments global;
+    app.add_option("--device", global.device,
+                   "OpenCL device: gpu, cpu, an index, P:D (platform:device) or a name substring; "
+                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown SPEC is an error")
+        ->type_name("SPEC");
+
+    // msmcl filter IN.exr OUT.exr --format F [--sigma S] [--depth-range R]
+    msmcl::cli::FilterArguments filter;
+    CLI::App* filter_command =
+        app.add_subcommand("filter", "Depth map (EXR, Z or sample<N>.Z) -> filtered moment shadow map (EXR)");
+    filter_command->add_option("input", filter.input, "depth map EXR")->required();
+    filter_command->add_option("output", filter.output, "texture EXR to write")->required();
+    filter_command->add_option("--format", filter.format, "moments128, msm64, nlq64 or nlq32")->required()->type_name("FORMAT");
+    filter_command->add_option("--sigma", filter.sigma, "Gaussian sigma in texels, >= 0 (0 = no blur)")
+        ->capture_default_str()
+        ->type_name("FLOAT");
+    filter_command->add_option("--depth-range", filter.depth_range, "depth convention of the input: 0,1 or -1,1")
+        ->capture_default_str()
+        ->type_name("RANGE");
+
+    // msmcl shade MAP.exr RECEIVERS.exr OUT.exr [--lookup L] [--depth-bias B] [--depth-range R]
+    msmcl::cli::ShadeArguments shade;
+    CLI::App* shade_command =
+        app.add_subcommand("shade", "Filtered map + receivers (EXR U,V,Z) -> shadow intensity (EXR Y)");
+    shade_command->add_option("map", shade.map, "texture EXR written by msmcl filter")->required();
+    shade_command->add_option("receivers", shade.receivers, "receivers EXR (FLOAT U, V in texels, Z depth)")->required();
+    shade_command->add_option("output", shade.output, "intensity EXR to write (channel Y)")->required();
+    shade_command->add_option("--lookup", shade.lookup, "nearest or bilinear")->capture_default_str()->type_name("LOOKUP");
+    shade_command->add_option("--depth-bias", shade.depth_bias, "subtracted from the receiver's internal depth")
+        ->capture_default_str()
+        ->type_name("FLOAT");
+    shade_command->add_option("--depth-range", shade.depth_range,
+                              "depth convention of the receivers: 0,1 or -1,1 (default: the map's)")
+        ->type_name("RANGE");
+
+    CLI::App* devices_command = app.add_subcommand("devices", "List OpenCL devices; marks the one msmcl picks");
+
+    // Parse: help and version go to stdout with exit 0, every other parse error is usage.
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        return report(e.what(), exit_bad_input);
+    }
+
+    // Run the chosen subcommand and map failures to exit codes.
+    try {
+        if (filter_command->parsed()) msmcl::cli::run_filter(global, filter);
+        else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
+        else if (devices_command->parsed()) msmcl::cli::run_devices(global);
+        return 0;
+    } catch (const msmcl::cli::usage_error& e) {
+        return report(e.what(), exit_bad_input);
+    } catch (const msmcl::input_error& e) {
+        return report(e.what(), exit_bad_input);
+    } catch (const msmcl::error& e) { // opencl_error, build_error, device_error, I/O failures
+        return report(e.what(), exit_runtime_failure);
+    } catch (const std::bad_alloc&) {
+        return report("out of memory", exit_runtime_failure);
+    } catch (const std::exception& e) {
+        return report(e.what(), exit_runtime_failure);
+    }
+}

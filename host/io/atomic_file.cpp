@@ -1,0 +1,125 @@
+#include "io/atomic_file.hpp"
+
+#include <msmcl/errors.hpp>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace msmcl::io {
+namespace {
+
+std::string system_message(int error_number) { return std::strerror(error_number); }
+
+/// A temporary name next to `path`: hidden, unique per process and call, ends in .tmp.
+std::string temporary_name_for(const std::string& path) {
+    static std::atomic<unsigned> counter{0};
+    const std::size_t slash = path.find_last_of('/');
+    const std::string directory = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+    const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    return directory + "." + name + "." + std::to_string(static_cast<long>(::getpid())) + "." +
+           std::to_string(counter.fetch_add(1)) + ".tmp";
+}
+
+/// Closes and deletes the temporary file unless it was handed over by rename.
+class TemporaryFile {
+public:
+    TemporaryFile(std::string name, int descriptor) : name_(std::move(name)), descriptor_(descriptor) {}
+    ~TemporaryFile() {
+        if (descriptor_ >= 0) ::close(descriptor_);
+        if (!renamed_) ::unlink(name_.c_str());
+    }
+    TemporaryFile(const TemporaryFile&) = delete;
+    TemporaryFile& operator=(const TemporaryFile&) = delete;
+
+    int descriptor() const { return descriptor_; }
+    const std::string& name() const { return name_; }
+    /// Closes the descriptor; returns errno of a failed close (0 on success).
+    int close() {
+        const int result = ::close(descriptor_);
+        descriptor_ = -1;
+        return result == 0 ? 0 : errno;
+    }
+    void mark_renamed() { renamed_ = true; }
+
+private:
+    std::string name_;
+    int descriptor_;
+    bool renamed_ = false;
+};
+
+} // namespace
+
+void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
+    if (path.empty()) throw input_error("empty output file name");
+    // A directory under the final name would make rename fail late: refuse it up front.
+    struct stat existing {};
+    if (::stat(path.c_str(), &existing) == 0 && S_ISDIR(existing.st_mode))
+        throw input_error(path + ": cannot write: is a directory");
+
+    // Create the temporary file next to the final one, so rename stays on one file system.
+    const std::string temporary_name = temporary_name_for(path);
+    const int descriptor = ::open(temporary_name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (descriptor < 0) {
+        const int error_number = errno;
+        throw input_error(path + ": cannot write: " + system_message(error_number));
+    }
+    TemporaryFile temporary(temporary_name, descriptor);
+
+    // Write everything, retrying short writes.
+    const char* bytes = static_cast<const char*>(data);
+    std::size_t written = 0;
+    while (written < size) {
+        const ssize_t result = ::write(temporary.descriptor(), bytes + written, size - written);
+        if (result < 0) {
+            if (errno == EINTR) continue;
+            const int error_number = errno;
+            throw error(path + ": cannot write: " + system_message(error_number));
+        }
+        written += static_cast<std::size_t>(result);
+    }
+
+    // Flush to disk before the rename makes the file visible.
+    if (::fsync(temporary.descriptor()) != 0 && errno != EINVAL && errno != EROFS) {
+        const int error_number = errno;
+        throw error(path + ": cannot write: " + system_message(error_number));
+    }
+    if (const int close_error = temporary.close(); close_error != 0)
+        throw error(path + ": cannot write: " + system_message(close_error));
+
+    // Publish under the final name in one step.
+    if (::rename(temporary.name().c_str(), path.c_str()) != 0) {
+        const int error_number = errno;
+        throw error(path + ": cannot write: " + system_message(error_number));
+    }
+    temporary.mark_renamed();
+}
+
+std::string read_whole_file(const std::string& path) {
+    struct stat status {};
+    if (::stat(path.c_str(), &status) != 0) {
+        const int error_number = errno;
+        throw input_error(path + ": cannot open: " + system_message(error_number));
+    }
+    if (S_ISDIR(status.st_mode)) throw input_error(path + ": cannot open: is a directory");
+
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) {
+        const int error_number = errno;
+        throw input_error(path + ": cannot open: " + system_message(error_number));
+    }
+    std::string content;
+    char buffer[1 << 16];
+    std::size_t count = 0;
+    while ((count = std::fread(buffer, 1, sizeof buffer, file)) > 0) content.append(buffer, count);
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed) throw input_error(path + ": cannot read: I/O error");
+    return content;
+}
+
+} // namespace msmcl::io

@@ -1,0 +1,19 @@
+// Writing a file so that it is either complete under its final name or absent.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace msmcl::io {
+
+/// Writes `size` bytes to a temporary file in the directory of `path`, flushes it to
+/// disk, then renames it to `path`. On any failure the temporary file is removed and
+/// nothing appears under `path` (an existing file there is left untouched).
+/// Throws input_error when `path` cannot be created (missing directory, no permission)
+/// and msmcl::error when writing fails midway (disk full, I/O error).
+void write_file_atomically(const std::string& path, const void* data, std::size_t size);
+
+/// The whole content of a file. Throws input_error naming the file when it cannot be read.
+std::string read_whole_file(const std::string& path);
+
+} // namespace msmcl::io

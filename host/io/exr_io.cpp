@@ -1,0 +1,672 @@
+#include "io/exr_io.hpp"
+
+#include "io/atomic_file.hpp"
+
+#include <msmcl/errors.hpp>
+
+#include <ImfAttribute.h>
+#include <ImfChannelList.h>
+#include <ImfFloatAttribute.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+#include <ImfIntAttribute.h>
+#include <ImfOutputFile.h>
+#include <ImfPartType.h>
+#include <ImfStdIO.h>
+#include <ImfStringAttribute.h>
+#include <ImfTiledOutputFile.h>
+#include <ImfVersion.h>
+#include <Iex.h>
+#include <half.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <set>
+
+namespace msmcl::io {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) {
+    throw input_error(path + ": " + problem);
+}
+
+/// OpenEXR's message without the quoted file name it repeats (ours leads the line).
+std::string openexr_problem(const std::string& path, const std::exception& e) {
+    std::string message = e.what();
+    const std::string quoted = " \"" + path + "\"";
+    for (std::size_t at = message.find(quoted); at != std::string::npos; at = message.find(quoted))
+        message.erase(at, quoted.size());
+    return "corrupt or truncated OpenEXR file (" + message + ")";
+}
+
+/// "1.5", "NaN", "+Inf": how a bad value appears in a message.
+std::string describe_value(double value) {
+    if (std::isnan(value)) return "NaN";
+    if (std::isinf(value)) return value > 0 ? "+Inf" : "-Inf";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", value);
+    return text;
+}
+
+std::string texel_name(long long x, long long y) {
+    return "texel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+}
+
+const char* sample_type_name(Imf::PixelType type) {
+    switch (type) {
+    case Imf::UINT: return "UINT";
+    case Imf::HALF: return "HALF";
+    case Imf::FLOAT: return "FLOAT";
+    default: return "unknown";
+    }
+}
+
+Imf::PixelType to_pixel_type(SampleType type) {
+    switch (type) {
+    case SampleType::uint32: return Imf::UINT;
+    case SampleType::half: return Imf::HALF;
+    case SampleType::float32: return Imf::FLOAT;
+    }
+    return Imf::FLOAT;
+}
+
+/// An Imf input stream over bytes already in memory; reading past the end throws, which
+/// OpenEXR reports as a truncated file.
+class MemoryInputStream : public Imf::IStream {
+public:
+    MemoryInputStream(const std::string& name, std::string bytes)
+        : Imf::IStream(name.c_str()), bytes_(std::move(bytes)) {}
+
+    bool read(char c[], int n) override {
+        if (n < 0 || position_ > bytes_.size() || bytes_.size() - position_ < static_cast<std::size_t>(n))
+            throw Iex::InputExc("unexpected end of file");
+        std::memcpy(c, bytes_.data() + position_, static_cast<std::size_t>(n));
+        position_ += static_cast<std::size_t>(n);
+        return position_ < bytes_.size();
+    }
+    uint64_t tellg() override { return position_; }
+    void seekg(uint64_t position) override { position_ = static_cast<std::size_t>(position); }
+    void clear() override {}
+
+private:
+    std::string bytes_;
+    std::size_t position_ = 0;
+};
+
+/// An opened EXR file whose header passed the checks every msmcl reader needs: a real
+/// OpenEXR file, not deep, a data window that is neither empty nor absurd, and no
+/// subsampled channels. OpenEXR's exceptions become input_error naming the file.
+class ExrReader {
+public:
+    explicit ExrReader(const std::string& path) : path_(path) {
+        // Load the bytes and look at the magic number before OpenEXR does.
+        std::string bytes = read_whole_file(path);
+        if (bytes.size() < 4 || !Imf::isImfMagic(bytes.data())) fail(path, "not an OpenEXR file");
+
+        // Check the first header alone before OpenEXR sizes its tables by the data window.
+        stream_ = std::make_unique<MemoryInputStream>(path, std::move(bytes));
+        Imath::Box2i window;
+        try {
+            char magic_and_version[8];
+            stream_->read(magic_and_version, 8);
+            int version = static_cast<unsigned char>(magic_and_version[4]) |
+                                static_cast<unsigned char>(magic_and_version[5]) << 8 |
+                                static_cast<unsigned char>(magic_and_version[6]) << 16 |
+                                static_cast<unsigned char>(magic_and_version[7]) << 24;
+            Imf::Header first_header;
+            first_header.readFrom(*stream_, version);
+            window = first_header.dataWindow();
+        } catch (const std::exception& e) {
+            fail(path, openexr_problem(path, e));
+        }
+        // The data window decides the image size: refuse empty and absurd ones.
+        const long long width = static_cast<long long>(window.max.x) - window.min.x + 1;
+        const long long height = static_cast<long long>(window.max.y) - window.min.y + 1;
+        if (width <= 0 || height <= 0) fail(path, "empty data window");
+        if (width > max_image_side || height > max_image_side)
+            fail(path, "data window " + std::to_string(width) + " x " + std::to_string(height) +
+                           " is too large (at most " + std::to_string(max_image_side) + " per side)");
+        width_ = static_cast<int>(width);
+        height_ = static_cast<int>(height);
+
+        // Open the file; any failure means it is damaged.
+        try {
+            stream_->seekg(0);
+            file_ = std::make_unique<Imf::InputFile>(*stream_, Imf::globalThreadCount());
+        } catch (const std::exception& e) {
+            fail(path, openexr_problem(path, e));
+        }
+        const Imf::Header& header = file_->header();
+        if (header.hasType() && Imf::isDeepData(header.type()))
+            fail(path, "deep OpenEXR images are not supported");
+        if (header.dataWindow() != window) fail(path, "corrupt OpenEXR header");
+
+        // msmcl works on full-resolution channels only.
+        for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+            const Imf::Channel& channel = it.channel();
+            if (channel.xSampling != 1 || channel.ySampling != 1)
+                fail(path, std::string("channel ") + it.name() + " is subsampled (" +
+                               std::to_string(channel.xSampling) + "x" + std::to_string(channel.ySampling) +
+                               "); only full-resolution channels are supported");
+        }
+    }
+
+    const std::string& path() const { return path_; }
+    const Imf::Header& header() const { return file_->header(); }
+    const Imath::Box2i data_window() const { return header().dataWindow(); }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    std::size_t texel_count() const { return static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_); }
+
+    /// The channel of that name, or null.
+    const Imf::Channel* find_channel(const std::string& name) const {
+        return header().channels().findChannel(name);
+    }
+    std::vector<std::string> channel_names() const {
+        std::vector<std::string> names;
+        for (auto it = header().channels().begin(); it != header().channels().end(); ++it) names.push_back(it.name());
+        return names;
+    }
+
+    /// Reads all rows into the slices of `frame_buffer`.
+    void read(const Imf::FrameBuffer& frame_buffer) {
+        try {
+            file_->setFrameBuffer(frame_buffer);
+            const Imath::Box2i window = data_window();
+            file_->readPixels(window.min.y, window.max.y);
+        } catch (const std::exception& e) {
+            fail(path_, openexr_problem(path_, e));
+        }
+    }
+
+    /// A FLOAT slice that writes channel values with the given strides into `base`
+    /// (base = the value of the data window's first texel).
+    Imf::Slice float_slice(float* base, std::size_t x_stride, std::size_t y_stride) const {
+        return Imf::Slice::Make(Imf::FLOAT, base, data_window(), x_stride, y_stride);
+    }
+
+private:
+    std::string path_;
+    std::unique_ptr<MemoryInputStream> stream_;
+    std::unique_ptr<Imf::InputFile> file_;
+    int width_ = 0;
+    int height_ = 0;
+};
+
+/// "A, B, G, R" (at most 8 names) for messages.
+std::string list_names(const std::vector<std::string>& names) {
+    if (names.empty()) return "none";
+    std::string text;
+    for (std::size_t i = 0; i < names.size() && i < 8; ++i) text += (i ? ", " : "") + names[i];
+    if (names.size() > 8) text += ", ...";
+    return text;
+}
+
+/// Requires a HALF or FLOAT channel `name`; `purpose` says what it is for in messages.
+void require_float_channel(const ExrReader& reader, const std::string& name, const std::string& purpose) {
+    const Imf::Channel* channel = reader.find_channel(name);
+    if (!channel)
+        fail(reader.path(), "missing channel " + name + " (" + purpose + "; channels: " +
+                                list_names(reader.channel_names()) + ")");
+    if (channel->type != Imf::HALF && channel->type != Imf::FLOAT)
+        fail(reader.path(), "channel " + name + " has type " + sample_type_name(channel->type) +
+                                "; it must be HALF or FLOAT");
+}
+
+/// Serializes `image` to EXR bytes in memory (validated, ZIP, deterministic).
+std::string encode_exr(const std::string& path, const ExrImage& image) {
+    // Validate sizes and channel data before OpenEXR sees them.
+    // (Sizes beyond max_image_side are allowed here, so tests can make files the readers refuse.)
+    if (image.width <= 0 || image.height <= 0)
+        fail(path, "cannot write an image of " + std::to_string(image.width) + " x " +
+                       std::to_string(image.height) + " texels");
+    if (image.channels.empty()) fail(path, "cannot write an image without channels");
+    std::set<std::string> names;
+    for (const ExrChannel& channel : image.channels) {
+        if (channel.name.empty() || !names.insert(channel.name).second)
+            fail(path, "empty or repeated channel name '" + channel.name + "'");
+        if (channel.x_sampling < 1 || channel.y_sampling < 1 || image.width % channel.x_sampling != 0 ||
+            image.height % channel.y_sampling != 0 || image.x_origin % channel.x_sampling != 0 ||
+            image.y_origin % channel.y_sampling != 0)
+            fail(path, "channel " + channel.name + ": sampling does not divide the data window");
+        const std::size_t expected = static_cast<std::size_t>(image.width / channel.x_sampling) *
+                                     static_cast<std::size_t>(image.height / channel.y_sampling);
+        const std::size_t given = channel.type == SampleType::uint32 ? channel.codes.size() : channel.values.size();
+        if (given != expected)
+            fail(path, "channel " + channel.name + " holds " + std::to_string(given) + " values, expected " +
+                           std::to_string(expected));
+    }
+
+    // Header: display window = data window, ZIP, the caller's attributes and nothing else.
+    const Imath::Box2i window(Imath::V2i(image.x_origin, image.y_origin),
+                              Imath::V2i(image.x_origin + image.width - 1, image.y_origin + image.height - 1));
+    Imf::Header header(window, window, 1.0f, Imath::V2f(0.0f, 0.0f), 1.0f, Imf::INCREASING_Y,
+                       Imf::ZIP_COMPRESSION);
+    for (const ExrChannel& channel : image.channels)
+        header.channels().insert(channel.name,
+                                 Imf::Channel(to_pixel_type(channel.type), channel.x_sampling, channel.y_sampling));
+    for (const ExrAttribute& attribute : image.attributes) {
+        if (const auto* text = std::get_if<std::string>(&attribute.value))
+            header.insert(attribute.name, Imf::StringAttribute(*text));
+        else if (const auto* number = std::get_if<float>(&attribute.value))
+            header.insert(attribute.name, Imf::FloatAttribute(*number));
+        else
+            header.insert(attribute.name, Imf::IntAttribute(std::get<int>(attribute.value)));
+    }
+
+    // Frame buffer in the channels' own types (OpenEXR does not convert on output):
+    // HALF channels get rounded copies (round to nearest even).
+    Imf::FrameBuffer frame_buffer;
+    std::vector<std::vector<half>> half_copies;
+    half_copies.reserve(image.channels.size());
+    for (const ExrChannel& channel : image.channels) {
+        const void* data = channel.values.data();
+        std::size_t value_bytes = sizeof(float);
+        if (channel.type == SampleType::uint32) {
+            data = channel.codes.data();
+        } else if (channel.type == SampleType::half) {
+            half_copies.emplace_back(channel.values.begin(), channel.values.end());
+            data = half_copies.back().data();
+            value_bytes = sizeof(half);
+        }
+        frame_buffer.insert(channel.name,
+                            Imf::Slice::Make(to_pixel_type(channel.type), data, window, value_bytes,
+                                             value_bytes * static_cast<std::size_t>(image.width / channel.x_sampling),
+                                             channel.x_sampling, channel.y_sampling));
+    }
+
+    // Encode into memory; the file object must be gone (offset table written) before reading the bytes.
+    Imf::StdOSStream stream;
+    try {
+        if (image.tiled) {
+            header.setTileDescription(Imf::TileDescription(32, 32, Imf::ONE_LEVEL));
+            Imf::TiledOutputFile file(stream, header, Imf::globalThreadCount());
+            file.setFrameBuffer(frame_buffer);
+            file.writeTiles(0, file.numXTiles() - 1, 0, file.numYTiles() - 1);
+        } else {
+            Imf::OutputFile file(stream, header, Imf::globalThreadCount());
+            file.setFrameBuffer(frame_buffer);
+            file.writePixels(image.height);
+        }
+    } catch (const std::exception& e) {
+        throw error(path + ": cannot encode OpenEXR data (" + e.what() + ")");
+    }
+    return stream.str();
+}
+
+void write_exr_atomically(const std::string& path, const ExrImage& image) {
+    const std::string bytes = encode_exr(path, image);
+    write_file_atomically(path, bytes.data(), bytes.size());
+}
+
+/// "sample<k>.Z" -> k; -1 for other names; throws for a malformed sample layer name.
+int sample_layer_index(const std::string& path, const std::string& name) {
+    static const std::string prefix = "sample";
+    static const std::string suffix = ".Z";
+    if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+        return -1;
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    const bool all_digits = std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!all_digits) return -1; // another layer, e.g. "sampleA.Z": not a depth sample
+    if (digits.size() > 4 || (digits.size() > 1 && digits[0] == '0'))
+        fail(path, "bad sample layer name '" + name + "' (expected sample0.Z, sample1.Z, ...)");
+    return std::stoi(digits);
+}
+
+bool is_supported_samples(int samples) {
+    return samples == 1 || samples == 2 || samples == 4 || samples == 8 || samples == 16;
+}
+
+/// The channels of a texture format: names in texel order, one type.
+struct TextureLayout {
+    std::vector<std::string> channels;
+    SampleType type;
+};
+TextureLayout texture_layout(Format format) {
+    switch (format) {
+    case Format::moments128: return {{"R", "G", "B", "A"}, SampleType::float32};
+    case Format::msm64:
+    case Format::nlq64: return {{"R", "G", "B", "A"}, SampleType::uint32};
+    case Format::nlq32: return {{"R"}, SampleType::uint32};
+    }
+    return {{}, SampleType::uint32};
+}
+
+float bits_to_float(std::uint32_t bits) {
+    float value;
+    std::memcpy(&value, &bits, sizeof value);
+    return value;
+}
+
+} // namespace
+
+const ExrChannel* ExrImage::find_channel(const std::string& name) const {
+    for (const ExrChannel& channel : channels)
+        if (channel.name == name) return &channel;
+    return nullptr;
+}
+
+const ExrAttribute* ExrImage::find_attribute(const std::string& name) const {
+    for (const ExrAttribute& attribute : attributes)
+        if (attribute.name == name) return &attribute;
+    return nullptr;
+}
+
+void write_exr(const std::string& path, const ExrImage& image) { write_exr_atomically(path, image); }
+
+ExrImage read_exr(const std::string& path) {
+    ExrReader reader(path);
+    ExrImage image;
+    image.width = reader.width();
+    image.height = reader.height();
+    image.x_origin = reader.data_window().min.x;
+    image.y_origin = reader.data_window().min.y;
+    image.tiled = reader.header().hasTileDescription();
+
+    // One buffer per channel, in the file's (alphabetical) channel order.
+    Imf::FrameBuffer frame_buffer;
+    const std::size_t row_bytes = sizeof(float) * static_cast<std::size_t>(reader.width());
+    for (auto it = reader.header().channels().begin(); it != reader.header().channels().end(); ++it) {
+        ExrChannel channel;
+        channel.name = it.name();
+        channel.type = it.channel().type == Imf::UINT   ? SampleType::uint32
+                       : it.channel().type == Imf::HALF ? SampleType::half
+                                                        : SampleType::float32;
+        if (channel.type == SampleType::uint32)
+            channel.codes.resize(reader.texel_count());
+        else
+            channel.values.resize(reader.texel_count());
+        image.channels.push_back(std::move(channel));
+    }
+    for (ExrChannel& channel : image.channels) {
+        const bool is_uint = channel.type == SampleType::uint32;
+        void* data = is_uint ? static_cast<void*>(channel.codes.data()) : static_cast<void*>(channel.values.data());
+        frame_buffer.insert(channel.name, Imf::Slice::Make(is_uint ? Imf::UINT : Imf::FLOAT, data,
+                                                           reader.data_window(), 4, row_bytes));
+    }
+    reader.read(frame_buffer);
+
+    // The attributes of the kinds msmcl uses.
+    for (auto it = reader.header().begin(); it != reader.header().end(); ++it) {
+        const Imf::Attribute& attribute = it.attribute();
+        if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&attribute))
+            image.attributes.push_back({it.name(), text->value()});
+        else if (const auto* number = dynamic_cast<const Imf::FloatAttribute*>(&attribute))
+            image.attributes.push_back({it.name(), number->value()});
+        else if (const auto* integer = dynamic_cast<const Imf::IntAttribute*>(&attribute))
+            image.attributes.push_back({it.name(), integer->value()});
+    }
+    return image;
+}
+
+DepthImage read_depth_exr(const std::string& path, DepthRange range) {
+    ExrReader reader(path);
+
+    // Find the sample layout: Z alone, or sample0.Z .. sample<S-1>.Z.
+    const std::vector<std::string> names = reader.channel_names();
+    bool has_plain_z = false;
+    std::map<int, std::string> layers;
+    for (const std::string& name : names) {
+        if (name == "Z") has_plain_z = true;
+        else if (const int index = sample_layer_index(path, name); index >= 0) layers[index] = name;
+    }
+    if (has_plain_z && !layers.empty())
+        fail(path, "has both a Z channel and sample<N>.Z layers; use one layout");
+    if (!has_plain_z && layers.empty())
+        fail(path, "missing depth channel: expected Z or sample0.Z .. sample<S-1>.Z (channels: " +
+                       list_names(names) + ")");
+    std::vector<std::string> depth_channels;
+    if (has_plain_z) {
+        depth_channels.push_back("Z");
+    } else {
+        for (int index = 0; index < static_cast<int>(layers.size()); ++index) {
+            if (!layers.count(index))
+                fail(path, "sample layers must be contiguous from sample0.Z: sample" + std::to_string(index) +
+                               ".Z is missing (found " + std::to_string(layers.size()) + " layers up to " +
+                               layers.rbegin()->second + ")");
+            depth_channels.push_back(layers[index]);
+        }
+    }
+    const int samples = static_cast<int>(depth_channels.size());
+    if (!is_supported_samples(samples))
+        fail(path, "unsupported sample count " + std::to_string(samples) + " (must be 1, 2, 4, 8 or 16)");
+    for (const std::string& name : depth_channels) require_float_channel(reader, name, "depth");
+
+    // Read all samples of a texel next to each other (texel-major).
+    DepthImage depth;
+    depth.width = reader.width();
+    depth.height = reader.height();
+    depth.samples = samples;
+    depth.depth.resize(reader.texel_count() * static_cast<std::size_t>(samples));
+    Imf::FrameBuffer frame_buffer;
+    const std::size_t texel_bytes = sizeof(float) * static_cast<std::size_t>(samples);
+    for (int s = 0; s < samples; ++s)
+        frame_buffer.insert(depth_channels[static_cast<std::size_t>(s)],
+                            reader.float_slice(depth.depth.data() + s, texel_bytes,
+                                               texel_bytes * static_cast<std::size_t>(depth.width)));
+    reader.read(frame_buffer);
+
+    // Every depth must be finite and inside the declared range.
+    const float low = range == DepthRange::zero_one ? 0.0f : -1.0f;
+    const float high = 1.0f;
+    for (std::size_t i = 0; i < depth.depth.size(); ++i) {
+        const float value = depth.depth[i];
+        if (std::isfinite(value) && value >= low && value <= high) continue;
+        const std::size_t texel = i / static_cast<std::size_t>(samples);
+        const long long x = static_cast<long long>(texel % static_cast<std::size_t>(depth.width));
+        const long long y = static_cast<long long>(texel / static_cast<std::size_t>(depth.width));
+        const std::string where = texel_name(x, y) + " " + depth_channels[i % static_cast<std::size_t>(samples)];
+        if (!std::isfinite(value)) fail(path, where + ": depth is " + describe_value(value));
+        fail(path, where + ": depth " + describe_value(value) + " is outside the depth range [" +
+                       depth_range_name(range) + "]");
+    }
+    return depth;
+}
+
+void write_depth_exr(const std::string& path, const DepthImage& depth, SampleType type) {
+    if (type == SampleType::uint32) fail(path, "depth must be written as HALF or FLOAT");
+    if (depth.samples < 1 || depth.width <= 0 || depth.height <= 0 ||
+        depth.depth.size() != static_cast<std::size_t>(depth.width) * depth.height * depth.samples)
+        fail(path, "depth image size does not match its data");
+
+    // One channel per sample: Z, or sample<s>.Z.
+    ExrImage image;
+    image.width = depth.width;
+    image.height = depth.height;
+    const std::size_t texels = static_cast<std::size_t>(depth.width) * depth.height;
+    for (int s = 0; s < depth.samples; ++s) {
+        ExrChannel channel;
+        channel.name = depth.samples == 1 ? "Z" : "sample" + std::to_string(s) + ".Z";
+        channel.type = type;
+        channel.values.resize(texels);
+        for (std::size_t t = 0; t < texels; ++t)
+            channel.values[t] = depth.depth[t * static_cast<std::size_t>(depth.samples) + static_cast<std::size_t>(s)];
+        image.channels.push_back(std::move(channel));
+    }
+    write_exr_atomically(path, image);
+}
+
+ReceiverGrid read_receivers_exr(const std::string& path) {
+    ExrReader reader(path);
+    for (const char* name : {"U", "V", "Z"})
+        require_float_channel(reader, name, "receivers need channels U, V, Z");
+
+    // Read the three planes.
+    ReceiverGrid grid;
+    grid.width = reader.width();
+    grid.height = reader.height();
+    std::vector<float> planes[3];
+    Imf::FrameBuffer frame_buffer;
+    const char* names[3] = {"U", "V", "Z"};
+    for (int c = 0; c < 3; ++c) {
+        planes[c].resize(reader.texel_count());
+        frame_buffer.insert(names[c], reader.float_slice(planes[c].data(), sizeof(float),
+                                                         sizeof(float) * static_cast<std::size_t>(grid.width)));
+    }
+    reader.read(frame_buffer);
+
+    // Every coordinate must be finite (points outside the map are fine: lookups clamp).
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t i = 0; i < planes[c].size(); ++i)
+            if (!std::isfinite(planes[c][i]))
+                fail(path, texel_name(static_cast<long long>(i % static_cast<std::size_t>(grid.width)),
+                                      static_cast<long long>(i / static_cast<std::size_t>(grid.width))) +
+                               ": " + names[c] + " is " + describe_value(planes[c][i]));
+    grid.points.u = std::move(planes[0]);
+    grid.points.v = std::move(planes[1]);
+    grid.points.z = std::move(planes[2]);
+    return grid;
+}
+
+void write_receivers_exr(const std::string& path, const ReceiverGrid& receivers) {
+    const std::size_t count = static_cast<std::size_t>(std::max(receivers.width, 0)) * std::max(receivers.height, 0);
+    if (receivers.points.u.size() != count || receivers.points.v.size() != count || receivers.points.z.size() != count)
+        fail(path, "receiver grid size does not match its data");
+    ExrImage image;
+    image.width = receivers.width;
+    image.height = receivers.height;
+    image.channels = {{"U", SampleType::float32, receivers.points.u, {}},
+                      {"V", SampleType::float32, receivers.points.v, {}},
+                      {"Z", SampleType::float32, receivers.points.z, {}}};
+    write_exr_atomically(path, image);
+}
+
+void write_texture_exr(const std::string& path, const Texture& texture, const TextureInfo& info) {
+    const std::size_t words_per_texel = texel_words(texture.format);
+    const std::size_t texels = static_cast<std::size_t>(std::max(texture.width, 0)) * std::max(texture.height, 0);
+    if (texture.words.size() != texels * words_per_texel) fail(path, "texture size does not match its data");
+    if (!std::isfinite(info.sigma) || info.sigma < 0.0f) fail(path, "sigma must be finite and >= 0");
+
+    // Split texels into channels as SPEC section 8 lays them out.
+    const TextureLayout layout = texture_layout(texture.format);
+    ExrImage image;
+    image.width = texture.width;
+    image.height = texture.height;
+    for (const std::string& name : layout.channels) image.channels.push_back({name, layout.type, {}, {}});
+    for (ExrChannel& channel : image.channels) {
+        if (layout.type == SampleType::float32) channel.values.resize(texels);
+        else channel.codes.resize(texels);
+    }
+    for (std::size_t t = 0; t < texels; ++t) {
+        const std::uint32_t* words = texture.words.data() + t * words_per_texel;
+        switch (texture.format) {
+        case Format::moments128:
+            for (std::size_t c = 0; c < 4; ++c) image.channels[c].values[t] = bits_to_float(words[c]);
+            break;
+        case Format::msm64:
+        case Format::nlq64:
+            // Channel c sits in half (c % 2) of word (c / 2), low half first.
+            for (std::size_t c = 0; c < 4; ++c) image.channels[c].codes[t] = (words[c / 2] >> (16 * (c % 2))) & 0xFFFFu;
+            break;
+        case Format::nlq32: image.channels[0].codes[t] = words[0]; break;
+        }
+    }
+
+    // Attributes that tell a reader how to use the texels.
+    image.attributes = {{"msmcl:format", std::string(format_name(texture.format))},
+                        {"msmcl:sigma", info.sigma},
+                        {"msmcl:samples", info.samples},
+                        {"msmcl:depthRange", std::string(depth_range_name(info.depth_range))}};
+    write_exr_atomically(path, image);
+}
+
+TextureFile read_texture_exr(const std::string& path) {
+    ExrReader reader(path);
+    const Imf::Header& header = reader.header();
+
+    // The format attribute says which channels to expect.
+    if (header.find("msmcl:format") == header.end())
+        fail(path, "not an msmcl texture (attribute msmcl:format is missing)");
+    const auto* format_attribute = header.findTypedAttribute<Imf::StringAttribute>("msmcl:format");
+    if (!format_attribute) fail(path, "attribute msmcl:format is not a string");
+    const std::optional<Format> format = parse_format(format_attribute->value());
+    if (!format) fail(path, "unknown texture format '" + format_attribute->value() + "' in msmcl:format");
+
+    // The other attributes, each present, of its type, with a usable value.
+    TextureFile result;
+    const auto* sigma = header.findTypedAttribute<Imf::FloatAttribute>("msmcl:sigma");
+    if (!sigma) fail(path, "attribute msmcl:sigma (float) is missing or not a float");
+    if (!std::isfinite(sigma->value()) || sigma->value() < 0.0f)
+        fail(path, "attribute msmcl:sigma is " + describe_value(sigma->value()) + "; it must be finite and >= 0");
+    const auto* samples = header.findTypedAttribute<Imf::IntAttribute>("msmcl:samples");
+    if (!samples) fail(path, "attribute msmcl:samples (int) is missing or not an int");
+    if (!is_supported_samples(samples->value()))
+        fail(path, "attribute msmcl:samples is " + std::to_string(samples->value()) + "; it must be 1, 2, 4, 8 or 16");
+    const auto* range = header.findTypedAttribute<Imf::StringAttribute>("msmcl:depthRange");
+    if (!range) fail(path, "attribute msmcl:depthRange (string) is missing or not a string");
+    const std::optional<DepthRange> depth_range = parse_depth_range(range->value());
+    if (!depth_range) fail(path, "attribute msmcl:depthRange is '" + range->value() + "'; it must be 0,1 or -1,1");
+    result.info = {sigma->value(), samples->value(), *depth_range};
+
+    // Exactly the channels of the format, of its type.
+    const TextureLayout layout = texture_layout(*format);
+    const Imf::PixelType wanted_type = to_pixel_type(layout.type);
+    for (const std::string& name : layout.channels) {
+        const Imf::Channel* channel = reader.find_channel(name);
+        if (!channel) fail(path, "missing channel " + name + " for format " + format_name(*format));
+        if (channel->type != wanted_type)
+            fail(path, "channel " + name + " has type " + sample_type_name(channel->type) + "; format " +
+                           format_name(*format) + " needs " + sample_type_name(wanted_type));
+    }
+    for (const std::string& name : reader.channel_names())
+        if (std::find(layout.channels.begin(), layout.channels.end(), name) == layout.channels.end())
+            fail(path, "unexpected channel " + name + " for format " + format_name(*format));
+
+    // Read the channels as 32-bit words (float bits for moments128).
+    const std::size_t texels = reader.texel_count();
+    std::vector<std::vector<std::uint32_t>> planes(layout.channels.size(), std::vector<std::uint32_t>(texels));
+    Imf::FrameBuffer frame_buffer;
+    for (std::size_t c = 0; c < layout.channels.size(); ++c)
+        frame_buffer.insert(layout.channels[c],
+                            Imf::Slice::Make(wanted_type, planes[c].data(), reader.data_window(), 4,
+                                             4 * static_cast<std::size_t>(reader.width())));
+    reader.read(frame_buffer);
+
+    // Pack the channels into the texture's words.
+    Texture& texture = result.texture;
+    texture.format = *format;
+    texture.width = reader.width();
+    texture.height = reader.height();
+    const std::size_t words_per_texel = texel_words(*format);
+    texture.words.assign(texels * words_per_texel, 0u);
+    for (std::size_t t = 0; t < texels; ++t) {
+        std::uint32_t* words = texture.words.data() + t * words_per_texel;
+        switch (*format) {
+        case Format::moments128:
+            for (std::size_t c = 0; c < 4; ++c) words[c] = planes[c][t];
+            break;
+        case Format::msm64:
+        case Format::nlq64:
+            for (std::size_t c = 0; c < 4; ++c) {
+                if (planes[c][t] > 0xFFFFu)
+                    fail(path, texel_name(static_cast<long long>(t % static_cast<std::size_t>(texture.width)),
+                                          static_cast<long long>(t / static_cast<std::size_t>(texture.width))) +
+                                   " channel " + layout.channels[c] + ": code " + std::to_string(planes[c][t]) +
+                                   " does not fit 16 bits");
+                words[c / 2] |= planes[c][t] << (16 * (c % 2));
+            }
+            break;
+        case Format::nlq32: words[0] = planes[0][t]; break;
+        }
+    }
+    return result;
+}
+
+void write_intensity_exr(const std::string& path, int width, int height, const std::vector<float>& intensity) {
+    if (width <= 0 || height <= 0 || intensity.size() != static_cast<std::size_t>(width) * height)
+        fail(path, "intensity image size does not match its data");
+    ExrImage image;
+    image.width = width;
+    image.height = height;
+    image.channels = {{"Y", SampleType::float32, intensity, {}}};
+    write_exr_atomically(path, image);
+}
+
+} // namespace msmcl::io
