@@ -14,4 +14,12 @@ inline bool is_pocl(const DeviceInfo& device) {
            device.opencl_version.find("pocl") != std::string::npos;
 }
 
+/// Build options a device needs besides the program's own. PoCL's compiler prints its
+/// diagnostics ("2 warnings generated.") straight to the process's stderr, which would
+/// break the CLI's one-line error contract: silence warnings there (the build log still
+/// carries errors).
+inline std::string device_build_options(const DeviceInfo& device) {
+    return is_pocl(device) ? "-w" : "";
+}
+
 } // namespace msmcl::detail
