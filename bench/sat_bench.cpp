@@ -1,0 +1,284 @@
+// Cases of the summed-area table work (issue 3), all on the workload's device and depth map,
+// measured once per (size, samples) (the rows carry format msm64, the basis the table uses):
+//   sat_copy            a kernel moving the table's minimum bytes (the S depths in, 16 bytes
+//                       out per texel): the memory roof of the SAT rows
+//   sat                 build_sat with the kernel the library picks for the device
+//   sat_tiled_gpu       the local-memory tiled scan (the GPU distribution)
+//   sat_tiled_cpu       the 16-lane vector tiled scan (the CPU distribution)
+//   sat_row_per_thread  the papers' one-thread-per-row scan, then one thread per column
+//   soft_msm            soft_shade: moment soft shadows of 2^18 receivers on the map's surface
+//   pcss_15, pcss_27    brute-force PCSS of the same receivers with a 15x15 / 27x27 search
+// Every SAT row reports `bytes` = the minimum (depths once, table once), so GB/s compare;
+// `sat_copy_roof_fraction` is sat_copy's time over the row's. Table rows record whether
+// they equal the baseline's table bit for bit; soft rows the cost per receiver.
+#include "harness.hpp"
+
+#include <msmcl/errors.hpp>
+#include <msmcl/sat.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <string>
+#include <tuple>
+
+namespace msmcl::bench {
+
+namespace {
+
+constexpr std::uint32_t kMaxKernel = 27 * 27;
+
+// Kernels that are not part of the library: the copy roof and brute-force PCSS.
+const char* const kSatBenchSource = R"CLC(
+// Every texel: the sum of its samples (no load can be dropped), written as 4 words.
+__kernel void sat_copy(__global const float* depth, __global uint* table, uint texels) {
+    const size_t t = get_global_id(0);
+    if (t >= texels) return;
+    float sum = 0.0f;
+    for (int s = 0; s < SAMPLES; ++s) sum += depth[t * SAMPLES + s];
+    table[4 * t + 0] = as_uint(sum);
+    table[4 * t + 1] = as_uint(sum) + 1u;
+    table[4 * t + 2] = as_uint(sum) + 2u;
+    table[4 * t + 3] = as_uint(sum) + 3u;
+}
+
+// Percentage-closer soft shadows by brute force (host/reference/sat_reference.cpp
+// pcss_shadow): every sample of the SEARCH x SEARCH texel square in front of zf is a
+// blocker; filter side light_size * (zf - mean blocker depth), clamped; area-weighted share
+// of the samples in front of zf over the filter square, clipped to the map.
+__kernel void pcss(__global const float* depth, int width, int height, __global const float* uvz, uint count,
+                   float depth_bias, float light_size, float min_filter, float max_filter,
+                   __global float* intensity) {
+    const size_t i = get_global_id(0);
+    if (i >= count) return;
+    const float u = clamp(uvz[i], 0.0f, (float)width);
+    const float v = clamp(uvz[count + i], 0.0f, (float)height);
+    const float zf = 2.0f * uvz[2 * (size_t)count + i] - 1.0f - depth_bias;
+    const int sx = (int)floor(u + 0.5f - 0.5f * SEARCH), sy = (int)floor(v + 0.5f - 0.5f * SEARCH);
+    const int x0 = max(sx, 0), y0 = max(sy, 0);
+    const int x1 = min(sx + SEARCH - 1, width - 1), y1 = min(sy + SEARCH - 1, height - 1);
+    float blockers = 0.0f, depth_sum = 0.0f;
+    for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x)
+            for (int s = 0; s < SAMPLES; ++s) {
+                const float z = 2.0f * depth[((size_t)y * width + x) * SAMPLES + s] - 1.0f;
+                if (z < zf) {
+                    blockers += 1.0f;
+                    depth_sum += z;
+                }
+            }
+    if (blockers == 0.0f) {
+        intensity[i] = 0.0f;
+        return;
+    }
+    const float side = clamp(light_size * (zf - depth_sum / blockers), min_filter, max_filter);
+    const float left = max(u - 0.5f * side, 0.0f), right = min(u + 0.5f * side, (float)width);
+    const float top = max(v - 0.5f * side, 0.0f), bottom = min(v + 0.5f * side, (float)height);
+    float shadow = 0.0f;
+    for (int y = (int)floor(top); y < (int)ceil(bottom); ++y) {
+        const float wy = min(bottom, y + 1.0f) - max(top, (float)y);
+        for (int x = (int)floor(left); x < (int)ceil(right); ++x) {
+            const float w = wy * (min(right, x + 1.0f) - max(left, (float)x));
+            float in_front = 0.0f;
+            for (int s = 0; s < SAMPLES; ++s)
+                in_front += 2.0f * depth[((size_t)y * width + x) * SAMPLES + s] - 1.0f < zf ? 1.0f : 0.0f;
+            shadow += w * in_front;
+        }
+    }
+    intensity[i] = shadow / (SAMPLES * (right - left) * (bottom - top));
+}
+)CLC";
+
+// Built bench kernels per (context, samples, search size), kept for the process.
+cl_kernel bench_kernel(Context& context, const char* name, int samples, int search) {
+    static std::map<std::tuple<cl_context, std::string, int, int>, cl_kernel> kernels;
+    const auto key = std::make_tuple(context.cl_context_handle(), std::string(name), samples, search);
+    if (auto found = kernels.find(key); found != kernels.end()) return found->second;
+    cl_int status = CL_SUCCESS;
+    const char* sources[] = {kSatBenchSource};
+    cl_program program = clCreateProgramWithSource(context.cl_context_handle(), 1, sources, nullptr, &status);
+    check_cl(status, "clCreateProgramWithSource(sat bench)");
+    const std::string options =
+        "-cl-std=CL1.2 -DSAMPLES=" + std::to_string(samples) + " -DSEARCH=" + std::to_string(search);
+    cl_device_id device = context.cl_device_handle();
+    check_cl(clBuildProgram(program, 1, &device, options.c_str(), nullptr, nullptr), "clBuildProgram(sat bench)");
+    cl_kernel kernel = clCreateKernel(program, name, &status);
+    check_cl(status, "clCreateKernel(sat bench)");
+    clReleaseProgram(program);
+    kernels.emplace(key, kernel);
+    return kernel;
+}
+
+// A device buffer released at scope exit.
+struct Buffer {
+    cl_mem mem = nullptr;
+    Buffer(Context& context, std::size_t bytes, const void* data = nullptr) {
+        cl_int status = CL_SUCCESS;
+        mem = clCreateBuffer(context.cl_context_handle(),
+                             data ? CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR : CL_MEM_READ_WRITE, bytes,
+                             const_cast<void*>(data), &status);
+        check_cl(status, "clCreateBuffer(sat bench)");
+    }
+    ~Buffer() { clReleaseMemObject(mem); }
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+};
+
+void set_arg(cl_kernel kernel, cl_uint index, std::size_t size, const void* value) {
+    check_cl(clSetKernelArg(kernel, index, size, value), "clSetKernelArg(sat bench)");
+}
+
+// Table bytes every build must move at least: the depths once, the table once.
+std::size_t sat_bytes(const Workload& work) { return work.texels() * (work.samples * sizeof(float) + 16); }
+
+std::vector<CaseResult> run_sat(BenchEnv& env, const Workload& work) {
+    if (work.format != Format::msm64) return {}; // once per (size, samples)
+    Context& context = *env.context;
+    const std::size_t table_bytes = 16 * work.texels();
+    Buffer table(context, table_bytes);
+    std::vector<CaseResult> rows;
+
+    // The roof: the same bytes, no arithmetic.
+    CaseResult copy;
+    copy.name = "sat_copy";
+    copy.bytes = sat_bytes(work);
+    {
+        cl_kernel kernel = bench_kernel(context, "sat_copy", work.samples, 1);
+        const cl_uint texels = static_cast<cl_uint>(work.texels());
+        set_arg(kernel, 0, sizeof(cl_mem), &work.depth_buffer);
+        set_arg(kernel, 1, sizeof(cl_mem), &table.mem);
+        set_arg(kernel, 2, sizeof texels, &texels);
+        const std::size_t group = std::min<std::size_t>(256, context.device().max_work_group_size);
+        const std::size_t global = (work.texels() + group - 1) / group * group;
+        copy.take(time_runs(
+            [&] {
+                check_cl(clEnqueueNDRangeKernel(context.cl_queue_handle(), kernel, 1, nullptr, &global, &group, 0,
+                                                nullptr, nullptr),
+                         "clEnqueueNDRangeKernel(sat_copy)");
+                context.finish();
+            },
+            env.warmups, env.reps));
+    }
+    rows.push_back(copy);
+
+    // The builds, the baseline first (its table is the reference of the others).
+    std::vector<std::uint32_t> baseline;
+    const std::tuple<const char*, SatKernel> builds[] = {{"sat_row_per_thread", SatKernel::row_per_thread},
+                                                         {"sat", SatKernel::automatic},
+                                                         {"sat_tiled_gpu", SatKernel::tiled_gpu},
+                                                         {"sat_tiled_cpu", SatKernel::tiled_cpu}};
+    for (const auto& [name, kernel] : builds) {
+        SatOptions options;
+        options.max_kernel_texels = kMaxKernel;
+        options.kernel = kernel;
+        const DeviceDepth depth{work.depth_buffer, work.size, work.size, work.samples};
+        CaseResult row;
+        row.name = name;
+        row.bytes = sat_bytes(work);
+        row.take(time_runs(
+            [&] {
+                build_sat(context, depth, table.mem, options);
+                context.finish();
+            },
+            env.warmups, env.reps));
+        const std::vector<std::uint32_t> words = read_texture(context, table.mem, table_bytes);
+        if (baseline.empty()) baseline = words;
+        row.extra["equal_to_row_per_thread"] = equal_share(words, baseline);
+        rows.push_back(row);
+    }
+    for (CaseResult& row : rows) {
+        row.extra["roof_case"] = "sat_copy";
+        row.extra["sat_copy_roof_fraction"] = median(copy.ms) / median(row.ms);
+        row.extra["max_kernel_texels"] = kMaxKernel;
+    }
+    return rows;
+}
+
+std::vector<CaseResult> run_soft(BenchEnv& env, const Workload& work) {
+    if (work.format != Format::msm64) return {};
+    Context& context = *env.context;
+    // The table, and 2^18 receivers (a 512 x 512 view) at random spots of the map, on its
+    // surface (sample 0 of their texel).
+    SatOptions sat_options;
+    sat_options.max_kernel_texels = kMaxKernel;
+    const SatTable table = build_sat(context, *work.depth, sat_options);
+    const std::size_t count = std::size_t(1) << 18;
+    std::vector<float> uvz(3 * count);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (std::size_t i = 0; i < count; ++i) {
+        const float u = unit(rng) * work.size, v = unit(rng) * work.size;
+        const int x = std::min(static_cast<int>(u), work.size - 1), y = std::min(static_cast<int>(v), work.size - 1);
+        uvz[i] = u;
+        uvz[count + i] = v;
+        uvz[2 * count + i] = work.depth->at(x, y, 0);
+    }
+    Buffer table_buffer(context, table.words.size() * 4, table.words.data());
+    Buffer receivers(context, uvz.size() * 4, uvz.data());
+    Buffer intensity(context, count * 4);
+    SoftShadowOptions options;
+    options.light_size = 40.0f * work.size / 256.0f; // the same light at every resolution
+    options.depth_bias = 0.02f;
+    const SoftShadowLimits limits = soft_shadow_limits(kMaxKernel, options);
+    std::vector<CaseResult> rows;
+
+    CaseResult msm;
+    msm.name = "soft_msm";
+    msm.bytes = 16 * count;
+    msm.has_throughput = false;
+    const DeviceSat device_table{table_buffer.mem, table.width, table.height, kMaxKernel};
+    msm.take(time_runs(
+        [&] {
+            soft_shade(context, device_table, receivers.mem, count, intensity.mem, options);
+            context.finish();
+        },
+        env.warmups, env.reps));
+    rows.push_back(msm);
+
+    for (int search : {15, 27}) {
+        cl_kernel kernel = bench_kernel(context, "pcss", work.samples, search);
+        const cl_int size = work.size;
+        const cl_uint n = static_cast<cl_uint>(count);
+        const float min_filter = options.min_filter_size, max_filter = limits.max_filter_size;
+        set_arg(kernel, 0, sizeof(cl_mem), &work.depth_buffer);
+        set_arg(kernel, 1, sizeof size, &size);
+        set_arg(kernel, 2, sizeof size, &size);
+        set_arg(kernel, 3, sizeof(cl_mem), &receivers.mem);
+        set_arg(kernel, 4, sizeof n, &n);
+        set_arg(kernel, 5, sizeof(float), &options.depth_bias);
+        set_arg(kernel, 6, sizeof(float), &options.light_size);
+        set_arg(kernel, 7, sizeof(float), &min_filter);
+        set_arg(kernel, 8, sizeof(float), &max_filter);
+        set_arg(kernel, 9, sizeof(cl_mem), &intensity.mem);
+        const std::size_t group = std::min<std::size_t>(64, context.device().max_work_group_size);
+        const std::size_t global = (count + group - 1) / group * group;
+        CaseResult row;
+        row.name = "pcss_" + std::to_string(search);
+        row.bytes = 16 * count;
+        row.has_throughput = false;
+        row.take(time_runs(
+            [&] {
+                check_cl(clEnqueueNDRangeKernel(context.cl_queue_handle(), kernel, 1, nullptr, &global, &group, 0,
+                                                nullptr, nullptr),
+                         "clEnqueueNDRangeKernel(pcss)");
+                context.finish();
+            },
+            env.warmups, env.reps));
+        rows.push_back(row);
+    }
+    for (CaseResult& row : rows) {
+        row.extra["receivers"] = count;
+        row.extra["ns_per_receiver"] = median(row.ms) * 1e6 / double(count);
+        row.extra["light_size"] = options.light_size;
+    }
+    return rows;
+}
+
+MSMCL_BENCH_CASE({"sat", 100, run_sat});
+MSMCL_BENCH_CASE({"soft", 110, run_soft});
+
+} // namespace
+
+} // namespace msmcl::bench

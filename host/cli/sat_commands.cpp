@@ -1,0 +1,162 @@
+#include "cli/sat_commands.hpp"
+
+#include "io/exr_io.hpp"
+#include "io/sat_exr.hpp"
+
+#include <msmcl/errors.hpp>
+#include <msmcl/sat.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace msmcl::cli {
+namespace {
+
+// The whole of `text` as a finite float, else usage_error naming the option.
+float finite_float(const std::string& option, const std::string& text) {
+    char* end = nullptr;
+    errno = 0;
+    const float value = std::strtof(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(value))
+        throw usage_error(option + " must be a finite number, got '" + text + "'");
+    return value;
+}
+
+// The whole of `text` as an integer in [lowest, highest], else usage_error naming the option.
+long long integer(const std::string& option, const std::string& text, long long lowest, long long highest) {
+    char* end = nullptr;
+    errno = 0;
+    const long long value = std::strtoll(text.c_str(), &end, 10);
+    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || value < lowest || value > highest)
+        throw usage_error(option + " must be an integer in [" + std::to_string(lowest) + ", " +
+                          std::to_string(highest) + "], got '" + text + "'");
+    return value;
+}
+
+DepthRange depth_range_option(const std::string& text) {
+    const std::optional<DepthRange> range = parse_depth_range(text);
+    if (!range) throw usage_error("--depth-range must be 0,1 or -1,1, got '" + text + "'");
+    return *range;
+}
+
+// Library input errors do not know the file; put it in front.
+[[noreturn]] void rethrow_with_file(const std::string& path, const input_error& e) {
+    throw input_error(path + ": " + e.what());
+}
+
+} // namespace
+
+void add_sat_commands(CLI::App& app, SatCommands& commands) {
+    // msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range R]
+    SatArguments& sat = commands.sat;
+    CLI::App* sat_command = app.add_subcommand(
+        "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, UINT R,G,B,A)");
+    sat_command->add_option("input", sat.input, "depth map EXR")->required();
+    sat_command->add_option("output", sat.output, "table EXR to write")->required();
+    sat_command->add_option("--max-kernel", sat.max_kernel,
+                            "N: texels of the largest rectangle ever queried (precision log2(2^32/N) bits)")
+        ->capture_default_str()
+        ->type_name("N");
+    sat_command->add_option("--depth-range", sat.depth_range, "depth convention of the input: 0,1 or -1,1")
+        ->capture_default_str()
+        ->type_name("RANGE");
+    commands.sat_command = sat_command;
+
+    // msmcl soft SAT.exr RECEIVERS.exr OUT.exr --light-size L [--search-size K] ...
+    SoftArguments& soft = commands.soft;
+    CLI::App* soft_command = app.add_subcommand(
+        "soft", "Summed-area table + receivers (EXR U,V,Z) -> soft shadow intensity (EXR Y), directional light");
+    soft_command->add_option("table", soft.table, "table EXR written by msmcl sat")->required();
+    soft_command->add_option("receivers", soft.receivers, "receivers EXR (FLOAT U, V in texels, Z depth)")->required();
+    soft_command->add_option("output", soft.output, "intensity EXR to write (channel Y)")->required();
+    soft_command->add_option("--light-size", soft.light_size,
+                             "penumbra width in texels per unit of internal depth between receiver and blocker")
+        ->required()
+        ->type_name("L");
+    soft_command->add_option("--search-size", soft.search_size,
+                             "side of the blocker search square in texels, K^2 <= N (0 = floor(sqrt(N)))")
+        ->capture_default_str()
+        ->type_name("K");
+    soft_command->add_option("--min-filter", soft.min_filter, "smallest filter side in texels")
+        ->capture_default_str()
+        ->type_name("FLOAT");
+    soft_command->add_option("--depth-bias", soft.depth_bias, "subtracted from the receiver's internal depth")
+        ->capture_default_str()
+        ->type_name("FLOAT");
+    soft_command->add_option("--depth-range", soft.depth_range,
+                             "depth convention of the receivers: 0,1 or -1,1 (default: the table's)")
+        ->type_name("RANGE");
+    commands.soft_command = soft_command;
+}
+
+bool run_sat_commands(const GlobalArguments& global, const SatCommands& commands) {
+    if (commands.sat_command && commands.sat_command->parsed()) {
+        run_sat(global, commands.sat);
+        return true;
+    }
+    if (commands.soft_command && commands.soft_command->parsed()) {
+        run_soft(global, commands.soft);
+        return true;
+    }
+    return false;
+}
+
+void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
+    // Check the option values before touching any file.
+    SatOptions options;
+    options.max_kernel_texels = static_cast<std::uint32_t>(
+        integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
+    options.depth_range = depth_range_option(arguments.depth_range);
+
+    // Read and validate the depth map, build the table on the device.
+    const DepthImage depth = io::read_depth_exr(arguments.input, options.depth_range);
+    Context context(global.selection());
+    SatTable table;
+    try {
+        table = build_sat(context, depth, options);
+    } catch (const input_error& e) {
+        rethrow_with_file(arguments.input, e);
+    }
+
+    // Publish the table with what a reader needs to query it.
+    io::write_sat_exr(arguments.output, table, io::SatInfo{options.depth_range, depth.samples});
+}
+
+void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
+    // Check the option values before touching any file.
+    SoftShadowOptions options;
+    options.light_size = finite_float("--light-size", arguments.light_size);
+    if (options.light_size < 0.0f) throw usage_error("--light-size must be >= 0, got '" + arguments.light_size + "'");
+    options.search_size = static_cast<int>(integer("--search-size", arguments.search_size, 0, 46340));
+    options.min_filter_size = finite_float("--min-filter", arguments.min_filter);
+    if (options.min_filter_size <= 0.0f)
+        throw usage_error("--min-filter must be > 0, got '" + arguments.min_filter + "'");
+    options.depth_bias = finite_float("--depth-bias", arguments.depth_bias);
+    std::optional<DepthRange> range;
+    if (!arguments.depth_range.empty()) range = depth_range_option(arguments.depth_range);
+
+    // Read the table and the receivers; limits that depend on the table's N are checked here.
+    const io::SatFile table = io::read_sat_exr(arguments.table);
+    const io::ReceiverGrid receivers = io::read_receivers_exr(arguments.receivers);
+    options.depth_range = range.value_or(table.info.depth_range);
+    try {
+        soft_shadow_limits(table.table.max_kernel_texels, options);
+    } catch (const input_error& e) {
+        throw usage_error(std::string(e.what()) + " (" + arguments.table + " has N = " +
+                          std::to_string(table.table.max_kernel_texels) + ")");
+    }
+
+    // Shade on the device.
+    Context context(global.selection());
+    std::vector<float> intensity;
+    try {
+        intensity = soft_shade(context, table.table, receivers.points, options);
+    } catch (const input_error& e) {
+        rethrow_with_file(arguments.receivers, e);
+    }
+    io::write_intensity_exr(arguments.output, receivers.width, receivers.height, intensity);
+}
+
+} // namespace msmcl::cli

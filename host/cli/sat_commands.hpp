@@ -1,0 +1,52 @@
+// The summed-area table subcommands of msmcl (SPEC section 5):
+//   msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range 0,1|-1,1]
+//   msmcl soft SAT.exr RECEIVERS.exr OUT.exr --light-size L [--search-size K]
+//              [--min-filter F] [--depth-bias B] [--depth-range R]
+// As the other subcommands: options are checked before any file is touched, inputs are
+// read and outputs written through msmcl::io (atomic writes), errors map to exit codes 2/1.
+#pragma once
+
+#include "cli/commands.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace msmcl::cli {
+
+struct SatArguments {
+    std::string input;
+    std::string output;
+    std::string max_kernel = "729";
+    std::string depth_range = "0,1";
+};
+
+struct SoftArguments {
+    std::string table;
+    std::string receivers;
+    std::string output;
+    std::string light_size;
+    std::string search_size = "0";
+    std::string min_filter = "1";
+    std::string depth_bias = "1e-3";
+    std::string depth_range; ///< empty: the table's msmcl:depthRange
+};
+
+/// The two subcommands and what they parsed.
+struct SatCommands {
+    SatArguments sat;
+    SoftArguments soft;
+    CLI::App* sat_command = nullptr;
+    CLI::App* soft_command = nullptr;
+};
+
+/// Adds `sat` and `soft` to the application.
+void add_sat_commands(CLI::App& app, SatCommands& commands);
+
+/// Runs whichever of the two was parsed; false if neither was.
+bool run_sat_commands(const GlobalArguments& global, const SatCommands& commands);
+
+void run_sat(const GlobalArguments& global, const SatArguments& arguments);
+void run_soft(const GlobalArguments& global, const SoftArguments& arguments);
+
+} // namespace msmcl::cli

@@ -1,0 +1,441 @@
+// sat: depth map -> integer modular summed-area table (kernels/sat_build.cl), and the
+// table queries on host (kernels/msm_sat.clh compiled as C++) and device (sat_query.cl).
+#include "runtime/context_impl.hpp"
+
+#include "kernels/msm_sat.clh"
+
+#include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
+#include <msmcl/sat.hpp>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+namespace msmcl {
+
+namespace {
+
+// Largest width or height accepted (as filter).
+constexpr int kMaxDimension = 65536;
+
+// The two distributions of the tiled scan: kernels/sat_build.cl (GPU: 32x32 tiles in local
+// memory, one work-item per tile column) and kernels/sat_build_cpu.cl (CPU: one work-item
+// per 16 x 64 tile in 16-lane vectors). Both use kernels/sat_carries.cl in between.
+struct TiledScan {
+    int tile_width;
+    int tile_height;
+    const char* file;
+    const char* totals_kernel;
+    const char* scan_kernel;
+    bool item_per_tile; ///< CPU: one work-item per tile; GPU: tile_width work-items per tile
+};
+constexpr TiledScan kGpuScan{32, 32, "sat_build.cl", "sat_tile_totals", "sat_tile_scan", false};
+constexpr TiledScan kCpuScan{16, 64, "sat_build_cpu.cl", "sat_tile_totals_cpu", "sat_tile_scan_cpu", true};
+
+std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }
+
+std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
+
+void validate_table_shape(const char* call, int width, int height) {
+    if (width <= 0 || height <= 0)
+        throw input_error(std::string(call) + ": size " + size_text(width, height) + " is empty or negative");
+    if (width > kMaxDimension || height > kMaxDimension)
+        throw input_error(std::string(call) + ": size " + size_text(width, height) + " exceeds the limit of " +
+                          std::to_string(kMaxDimension) + " texels per side");
+}
+
+void validate_samples(int samples) {
+    if (!is_supported_sample_count(samples))
+        throw input_error("sat: unsupported sample count " + std::to_string(samples) + " (supported: 1, 2, 4, 8, 16)");
+}
+
+// The first NaN, Inf or out-of-range depth, named by texel and sample (as filter does).
+void validate_depth_values(const DepthImage& depth, DepthRange range) {
+    const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
+    for (std::size_t i = 0; i < depth.depth.size(); ++i) {
+        const float d = depth.depth[i];
+        if (std::isfinite(d) && d >= lowest && d <= 1.0f) continue;
+        const std::size_t texel = i / depth.samples;
+        std::ostringstream text;
+        text << "sat: depth at texel (" << texel % depth.width << ", " << texel / depth.width << ") sample "
+             << i % depth.samples << " is " << d;
+        if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
+        throw input_error(text.str());
+    }
+}
+
+// Buffers of a call against the device's largest allocation.
+void validate_device_bytes(const DeviceInfo& device, unsigned long long bytes, const std::string& what) {
+    if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes)
+        throw input_error("sat: " + what + " needs " + std::to_string(bytes) + " bytes, more than the device's " +
+                          "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
+}
+
+cl_ulong buffer_size(cl_mem buffer) {
+    std::size_t bytes = 0;
+    detail::check(clGetMemObjectInfo(buffer, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr), "clGetMemObjectInfo");
+    return bytes;
+}
+
+void require_buffer_bytes(cl_mem buffer, cl_ulong bytes, const std::string& what) {
+    if (!buffer) throw input_error("sat: the " + what + " buffer is null");
+    const cl_ulong held = buffer_size(buffer);
+    if (held < bytes)
+        throw input_error("sat: the " + what + " buffer holds " + std::to_string(held) + " bytes, " +
+                          std::to_string(bytes) + " are needed");
+}
+
+// What the table is built from.
+struct SatSource {
+    bool is_depth = true; // depth map (else ready integer texels)
+    int samples = 1;
+    DepthRange depth_range = DepthRange::zero_one;
+    std::uint32_t scale = 0;
+};
+
+// Compile-time variant: input kind, sample count, depth convention, tile size.
+std::vector<std::string> build_defines(const SatSource& source, const TiledScan& scan) {
+    const bool zero_one = !source.is_depth || source.depth_range == DepthRange::zero_one;
+    return {"MSM_SAT_SOURCE=" + std::string(source.is_depth ? "0" : "1"),
+            "MSM_SAMPLES=" + std::to_string(source.is_depth ? source.samples : 1),
+            "MSM_DEPTH_ZERO_ONE=" + std::string(zero_one ? "1" : "0"),
+            scan.item_per_tile ? "MSM_SAT_TILE_H=" + std::to_string(scan.tile_height)
+                               : "MSM_SAT_TILE=" + std::to_string(scan.tile_width)};
+}
+
+cl::Buffer scratch_buffer(detail::ContextImpl& impl, std::size_t words, const char* what) {
+    cl_int status = CL_SUCCESS;
+    cl::Buffer buffer(impl.context, CL_MEM_READ_WRITE, words * sizeof(cl_uint), nullptr, &status);
+    detail::check(status, what);
+    return buffer;
+}
+
+void launch(const cl::CommandQueue& queue, cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local,
+            const std::vector<cl::Event>& waits, cl::Event& done, const char* call) {
+    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, global, local, waits.empty() ? nullptr : &waits,
+                                             &done),
+                  call);
+}
+
+// Sets the common arguments (source, width, height, scale) of a build kernel.
+void set_source_arguments(cl::Kernel& kernel, const cl::Buffer& source, int width, int height, std::uint32_t scale) {
+    detail::set_arg(kernel, 0, source);
+    detail::set_arg(kernel, 1, static_cast<cl_int>(width));
+    detail::set_arg(kernel, 2, static_cast<cl_int>(height));
+    detail::set_arg(kernel, 3, static_cast<cl_uint>(scale));
+}
+
+// Enqueues the whole build on `queue`; returns the event of its last command.
+cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
+                        const cl::Buffer& source, const SatSource& what, int width, int height,
+                        const cl::Buffer& table, SatKernel kernel) {
+    validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " table");
+    cl::Event last;
+
+    if (kernel == SatKernel::row_per_thread) {
+        // The baseline: rows, then columns in place.
+        const std::vector<std::string> defines = build_defines(what, kGpuScan);
+        cl::Kernel& rows = impl.kernel("sat_build.cl", defines, "sat_rows_per_thread");
+        set_source_arguments(rows, source, width, height, what.scale);
+        detail::set_arg(rows, 4, table);
+        cl::Event rows_done;
+        launch(queue, rows, cl::NDRange(static_cast<std::size_t>(height)), cl::NullRange, waits, rows_done,
+               "clEnqueueNDRangeKernel(sat_rows_per_thread)");
+        cl::Kernel& columns = impl.kernel("sat_build.cl", defines, "sat_columns_per_thread");
+        detail::set_arg(columns, 0, table);
+        detail::set_arg(columns, 1, static_cast<cl_int>(width));
+        detail::set_arg(columns, 2, static_cast<cl_int>(height));
+        launch(queue, columns, cl::NDRange(static_cast<std::size_t>(width)), cl::NullRange, {rows_done}, last,
+               "clEnqueueNDRangeKernel(sat_columns_per_thread)");
+        return last;
+    }
+
+    // Tiled scan: carries of the tile grid (4 words per entry).
+    const TiledScan& scan = kernel == SatKernel::tiled_cpu ? kCpuScan : kGpuScan;
+    const std::vector<std::string> defines = build_defines(what, scan);
+    const int tiles_x = (width + scan.tile_width - 1) / scan.tile_width;
+    const int tiles_y = (height + scan.tile_height - 1) / scan.tile_height;
+    const int padded_width = tiles_x * scan.tile_width;
+    const int padded_height = tiles_y * scan.tile_height;
+    cl::Buffer column_carries =
+        scratch_buffer(impl, 4 * texel_count(padded_width, tiles_y), "clCreateBuffer(sat column carries)");
+    cl::Buffer row_carries =
+        scratch_buffer(impl, 4 * texel_count(tiles_x, padded_height), "clCreateBuffer(sat row carries)");
+    cl::Buffer tile_totals = scratch_buffer(impl, 4 * texel_count(tiles_x, tiles_y), "clCreateBuffer(sat tile totals)");
+    cl::Buffer corner_carries =
+        scratch_buffer(impl, 4 * texel_count(tiles_x, tiles_y), "clCreateBuffer(sat corner carries)");
+    const cl::NDRange tile_grid = scan.item_per_tile
+                                      ? cl::NDRange(static_cast<std::size_t>(tiles_x), static_cast<std::size_t>(tiles_y))
+                                      : cl::NDRange(static_cast<std::size_t>(padded_width), static_cast<std::size_t>(tiles_y));
+    // CPU: groups of one work-item (the work-items share nothing; a fixed size also means one
+    // kernel compilation for every map size).
+    const cl::NDRange tile_group =
+        scan.item_per_tile ? cl::NDRange(1, 1) : cl::NDRange(static_cast<std::size_t>(scan.tile_width), 1);
+
+    // 1. Totals per tile.
+    cl::Kernel& totals = impl.kernel(scan.file, defines, scan.totals_kernel);
+    if (!scan.item_per_tile) {
+        // The GPU tiles need tile_width work-items per group; the built kernel may allow fewer.
+        const std::size_t limit = totals.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device);
+        if (limit < static_cast<std::size_t>(scan.tile_width))
+            throw device_error("sat: device '" + impl.info.name + "' runs the tiled_gpu kernels with at most " +
+                               std::to_string(limit) + " work-items per group, they need " +
+                               std::to_string(scan.tile_width) + " (use SatKernel::tiled_cpu)");
+    }
+    set_source_arguments(totals, source, width, height, what.scale);
+    detail::set_arg(totals, 4, column_carries);
+    detail::set_arg(totals, 5, row_carries);
+    detail::set_arg(totals, 6, tile_totals);
+    cl::Event totals_done;
+    launch(queue, totals, tile_grid, tile_group, waits, totals_done, "clEnqueueNDRangeKernel(sat tile totals)");
+
+    // 2. Carries across tiles: columns, rows, corners (independent of each other).
+    const std::vector<cl::Event> after_totals{totals_done};
+    cl::Kernel& columns = impl.kernel("sat_carries.cl", {}, "sat_column_carries");
+    detail::set_arg(columns, 0, column_carries);
+    detail::set_arg(columns, 1, static_cast<cl_int>(padded_width));
+    detail::set_arg(columns, 2, static_cast<cl_int>(tiles_y));
+    cl::Event columns_done;
+    launch(queue, columns, cl::NDRange(static_cast<std::size_t>(padded_width)), cl::NullRange, after_totals,
+           columns_done, "clEnqueueNDRangeKernel(sat_column_carries)");
+    cl::Kernel& rows = impl.kernel("sat_carries.cl", {}, "sat_row_carries");
+    detail::set_arg(rows, 0, row_carries);
+    detail::set_arg(rows, 1, static_cast<cl_int>(padded_height));
+    detail::set_arg(rows, 2, static_cast<cl_int>(tiles_x));
+    cl::Event rows_done;
+    launch(queue, rows, cl::NDRange(static_cast<std::size_t>(padded_height)), cl::NullRange, after_totals, rows_done,
+           "clEnqueueNDRangeKernel(sat_row_carries)");
+    cl::Kernel& corners = impl.kernel("sat_carries.cl", {}, "sat_corner_carries");
+    detail::set_arg(corners, 0, tile_totals);
+    detail::set_arg(corners, 1, static_cast<cl_int>(tiles_x));
+    detail::set_arg(corners, 2, static_cast<cl_int>(tiles_y));
+    detail::set_arg(corners, 3, corner_carries);
+    cl::Event corners_done;
+    launch(queue, corners, cl::NDRange(static_cast<std::size_t>(tiles_x)), cl::NullRange, after_totals, corners_done,
+           "clEnqueueNDRangeKernel(sat_corner_carries)");
+
+    // 3. Each tile scanned from its carries, written once.
+    cl::Kernel& tile_scan = impl.kernel(scan.file, defines, scan.scan_kernel);
+    set_source_arguments(tile_scan, source, width, height, what.scale);
+    detail::set_arg(tile_scan, 4, column_carries);
+    detail::set_arg(tile_scan, 5, row_carries);
+    detail::set_arg(tile_scan, 6, corner_carries);
+    detail::set_arg(tile_scan, 7, table);
+    launch(queue, tile_scan, tile_grid, tile_group, {columns_done, rows_done, corners_done}, last,
+           "clEnqueueNDRangeKernel(sat tile scan)");
+    // The scratch buffers are released here; OpenCL keeps them until the kernels are done.
+    return last;
+}
+
+// automatic: the GPU distribution on GPUs, the CPU one elsewhere.
+SatKernel resolve_kernel(const DeviceInfo& device, SatKernel kernel) {
+    if (kernel != SatKernel::automatic) return kernel;
+    return device.is_gpu ? SatKernel::tiled_gpu : SatKernel::tiled_cpu;
+}
+
+// A host table must be what build_sat produces.
+void validate_table(const SatTable& table, const char* call) {
+    validate_table_shape(call, table.width, table.height);
+    sat_scale(table.max_kernel_texels);
+    if (table.scale != msm_sat_scale(table.max_kernel_texels))
+        throw input_error(std::string(call) + ": table scale " + std::to_string(table.scale) +
+                          " does not match N = " + std::to_string(table.max_kernel_texels) + " (expected " +
+                          std::to_string(msm_sat_scale(table.max_kernel_texels)) + ")");
+    if (table.words.size() != 4 * texel_count(table.width, table.height))
+        throw input_error(std::string(call) + ": table holds " + std::to_string(table.words.size()) + " words, a " +
+                          size_text(table.width, table.height) + " table needs " +
+                          std::to_string(4 * texel_count(table.width, table.height)));
+}
+
+std::string rectangle_text(int x0, int y0, int x1, int y1) {
+    return "[" + std::to_string(x0) + ", " + std::to_string(x1) + "] x [" + std::to_string(y0) + ", " +
+           std::to_string(y1) + "]";
+}
+
+Moments4 moments_of_basis(const msm_sat_basis& mean) {
+    const msm_moments m = msm_sat_moments_of_basis(mean);
+    return {m.b1, m.b2, m.b3, m.b4};
+}
+
+} // namespace
+
+std::uint32_t sat_scale(std::uint32_t max_kernel_texels) {
+    if (max_kernel_texels < sat_min_kernel_texels || max_kernel_texels > sat_max_kernel_texels)
+        throw input_error("sat: the largest kernel N = " + std::to_string(max_kernel_texels) + " texels is outside [" +
+                          std::to_string(sat_min_kernel_texels) + ", " + std::to_string(sat_max_kernel_texels) + "]");
+    return msm_sat_scale(max_kernel_texels);
+}
+
+SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& options) {
+    // Validate everything before touching the device.
+    validate_table_shape("sat: depth map", depth.width, depth.height);
+    validate_samples(depth.samples);
+    const std::size_t values = texel_count(depth.width, depth.height) * depth.samples;
+    if (depth.depth.size() != values)
+        throw input_error("sat: depth map " + size_text(depth.width, depth.height) + " with " +
+                          std::to_string(depth.samples) + " samples needs " + std::to_string(values) +
+                          " values, got " + std::to_string(depth.depth.size()));
+    const std::uint32_t scale = sat_scale(options.max_kernel_texels);
+    validate_depth_values(depth, options.depth_range);
+    detail::ContextImpl& impl = context.impl();
+    validate_device_bytes(impl.info, values * sizeof(float), "the depth buffer");
+
+    // Upload, build on the Context's queue, read back.
+    SatTable table;
+    table.width = depth.width;
+    table.height = depth.height;
+    table.max_kernel_texels = options.max_kernel_texels;
+    table.scale = scale;
+    table.words.resize(4 * texel_count(depth.width, depth.height));
+    cl_int status = CL_SUCCESS;
+    cl::Buffer depth_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, values * sizeof(float),
+                            const_cast<float*>(depth.depth.data()), &status);
+    detail::check(status, "clCreateBuffer(depth)");
+    const std::size_t table_bytes = table.words.size() * sizeof(std::uint32_t);
+    cl::Buffer table_buffer(impl.context, CL_MEM_READ_WRITE, table_bytes, nullptr, &status);
+    detail::check(status, "clCreateBuffer(sat table)");
+    const SatSource source{true, depth.samples, options.depth_range, scale};
+    const cl::Event done = enqueue_build(impl, impl.queue, {}, depth_buffer, source, depth.width, depth.height,
+                                         table_buffer, resolve_kernel(impl.info, options.kernel));
+    const std::vector<cl::Event> after_build{done};
+    detail::check(impl.queue.enqueueReadBuffer(table_buffer, CL_TRUE, 0, table_bytes, table.words.data(), &after_build),
+                  "clEnqueueReadBuffer(sat table)");
+    return table;
+}
+
+void build_sat(Context& context, const DeviceDepth& depth, cl_mem table, const SatOptions& options,
+               const Enqueue& enqueue) {
+    validate_table_shape("sat: depth map", depth.width, depth.height);
+    validate_samples(depth.samples);
+    const std::uint32_t scale = sat_scale(options.max_kernel_texels);
+    require_buffer_bytes(depth.buffer, texel_count(depth.width, depth.height) * depth.samples * sizeof(float), "depth");
+    require_buffer_bytes(table, 16ull * texel_count(depth.width, depth.height), "table");
+    detail::ContextImpl& impl = context.impl();
+    const cl::CommandQueue queue = impl.queue_for(enqueue);
+    const SatSource source{true, depth.samples, options.depth_range, scale};
+    const cl::Event last = enqueue_build(impl, queue, detail::wait_list(enqueue), cl::Buffer(depth.buffer, true), source,
+                                         depth.width, depth.height, cl::Buffer(table, true), resolve_kernel(impl.info, options.kernel));
+    detail::complete(enqueue, queue, last);
+}
+
+std::vector<std::uint32_t> sat_prefix_sums(Context& context, const std::vector<std::uint32_t>& texels, int width,
+                                           int height, SatKernel kernel) {
+    validate_table_shape("sat: texels", width, height);
+    const std::size_t words = 4 * texel_count(width, height);
+    if (texels.size() != words)
+        throw input_error("sat: " + size_text(width, height) + " texels need " + std::to_string(words) +
+                          " words, got " + std::to_string(texels.size()));
+    detail::ContextImpl& impl = context.impl();
+    cl_int status = CL_SUCCESS;
+    cl::Buffer input(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, words * sizeof(std::uint32_t),
+                     const_cast<std::uint32_t*>(texels.data()), &status);
+    detail::check(status, "clCreateBuffer(sat texels)");
+    cl::Buffer output(impl.context, CL_MEM_READ_WRITE, words * sizeof(std::uint32_t), nullptr, &status);
+    detail::check(status, "clCreateBuffer(sat table)");
+    const cl::Event done = enqueue_build(impl, impl.queue, {}, input, SatSource{false, 1, DepthRange::zero_one, 0},
+                                         width, height, output, resolve_kernel(impl.info, kernel));
+    std::vector<std::uint32_t> table(words);
+    const std::vector<cl::Event> after_build{done};
+    detail::check(impl.queue.enqueueReadBuffer(output, CL_TRUE, 0, words * sizeof(std::uint32_t), table.data(),
+                                               &after_build),
+                  "clEnqueueReadBuffer(sat table)");
+    return table;
+}
+
+void sat_prefix_sums(Context& context, cl_mem texels, cl_mem table, int width, int height, SatKernel kernel,
+                     const Enqueue& enqueue) {
+    validate_table_shape("sat: texels", width, height);
+    const cl_ulong bytes = 16ull * texel_count(width, height);
+    require_buffer_bytes(texels, bytes, "texels");
+    require_buffer_bytes(table, bytes, "table");
+    if (texels == table) throw input_error("sat: the texels and table buffers must be distinct");
+    detail::ContextImpl& impl = context.impl();
+    const cl::CommandQueue queue = impl.queue_for(enqueue);
+    const cl::Event last = enqueue_build(impl, queue, detail::wait_list(enqueue), cl::Buffer(texels, true),
+                                         SatSource{false, 1, DepthRange::zero_one, 0}, width, height,
+                                         cl::Buffer(table, true), resolve_kernel(impl.info, kernel));
+    detail::complete(enqueue, queue, last);
+}
+
+std::array<std::uint32_t, 4> sat_rectangle_sum(const SatTable& table, int x0, int y0, int x1, int y1) {
+    validate_table(table, "sat query");
+    if (x0 > x1 || y0 > y1 || x0 < 0 || y0 < 0 || x1 >= table.width || y1 >= table.height)
+        throw input_error("sat query: rectangle " + rectangle_text(x0, y0, x1, y1) + " is empty or leaves the " +
+                          size_text(table.width, table.height) + " table");
+    const unsigned long long texels = static_cast<unsigned long long>(x1 - x0 + 1) * (y1 - y0 + 1);
+    if (texels > table.max_kernel_texels)
+        throw input_error("sat query: rectangle " + rectangle_text(x0, y0, x1, y1) + " holds " +
+                          std::to_string(texels) + " texels, more than N = " +
+                          std::to_string(table.max_kernel_texels));
+    const msm_sat_sum s = msm_sat_rectangle_sum(table.words.data(), table.width, x0, y0, x1, y1);
+    return {s.c0, s.c1, s.c2, s.c3};
+}
+
+Moments4 sat_rectangle_moments(const SatTable& table, int x0, int y0, int x1, int y1) {
+    const std::array<std::uint32_t, 4> sums = sat_rectangle_sum(table, x0, y0, x1, y1);
+    msm_sat_sum s;
+    s.c0 = sums[0];
+    s.c1 = sums[1];
+    s.c2 = sums[2];
+    s.c3 = sums[3];
+    const float texels = static_cast<float>(static_cast<long long>(x1 - x0 + 1) * (y1 - y0 + 1));
+    return moments_of_basis(msm_sat_mean_of_sum(s, table.scale, texels));
+}
+
+Moments4 sat_interpolated_moments(const SatTable& table, const SatRectangle& r) {
+    validate_table(table, "sat query");
+    const bool finite = std::isfinite(r.left) && std::isfinite(r.top) && std::isfinite(r.right) && std::isfinite(r.bottom);
+    if (!finite || !(r.left < r.right) || !(r.top < r.bottom) || r.left < 0.0f || r.top < 0.0f ||
+        r.right > static_cast<float>(table.width) || r.bottom > static_cast<float>(table.height)) {
+        std::ostringstream text;
+        text << "sat query: rectangle [" << r.left << ", " << r.right << ") x [" << r.top << ", " << r.bottom
+             << ") is empty, not finite or leaves the " << size_text(table.width, table.height) << " table";
+        throw input_error(text.str());
+    }
+    if (!msm_sat_interpolation_fits(r.left, r.top, r.right, r.bottom, table.max_kernel_texels)) {
+        std::ostringstream text;
+        text << "sat query: rectangle [" << r.left << ", " << r.right << ") x [" << r.top << ", " << r.bottom
+             << ") needs sums over more than N = " << table.max_kernel_texels << " texels";
+        throw input_error(text.str());
+    }
+    return moments_of_basis(
+        msm_sat_interpolated_mean(table.words.data(), table.width, table.scale, r.left, r.top, r.right, r.bottom));
+}
+
+void sat_query_moments(Context& context, const DeviceSat& table, cl_mem rectangles, std::size_t count, cl_mem moments,
+                       const Enqueue& enqueue) {
+    validate_table_shape("sat query", table.width, table.height);
+    const std::uint32_t scale = sat_scale(table.max_kernel_texels);
+    require_buffer_bytes(table.buffer, 16ull * texel_count(table.width, table.height), "table");
+    if (count > std::numeric_limits<cl_uint>::max())
+        throw input_error("sat query: too many rectangles in one call (" + std::to_string(count) + ")");
+    detail::ContextImpl& impl = context.impl();
+    const cl::CommandQueue queue = impl.queue_for(enqueue);
+    std::vector<cl::Event> waits = detail::wait_list(enqueue);
+    cl::Event done;
+    if (count == 0) {
+        // Nothing to query: still honour the event contract.
+        detail::check(queue.enqueueMarkerWithWaitList(&waits, &done), "clEnqueueMarkerWithWaitList");
+        detail::complete(enqueue, queue, done);
+        return;
+    }
+    require_buffer_bytes(rectangles, 16ull * count, "rectangles");
+    require_buffer_bytes(moments, 16ull * count, "moments");
+    cl::Kernel& kernel = impl.kernel("sat_query.cl", {}, "sat_query_moments");
+    detail::set_arg(kernel, 0, table.buffer);
+    detail::set_arg(kernel, 1, static_cast<cl_int>(table.width));
+    detail::set_arg(kernel, 2, static_cast<cl_int>(table.height));
+    detail::set_arg(kernel, 3, static_cast<cl_uint>(scale));
+    detail::set_arg(kernel, 4, static_cast<cl_uint>(table.max_kernel_texels));
+    detail::set_arg(kernel, 5, rectangles);
+    detail::set_arg(kernel, 6, static_cast<cl_uint>(count));
+    detail::set_arg(kernel, 7, moments);
+    const std::size_t group = 64;
+    launch(queue, kernel, cl::NDRange((count + group - 1) / group * group), cl::NDRange(group), waits, done,
+           "clEnqueueNDRangeKernel(sat_query_moments)");
+    detail::complete(enqueue, queue, done);
+}
+
+} // namespace msmcl

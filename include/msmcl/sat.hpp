@@ -1,0 +1,171 @@
+// sat: integer modular summed-area tables of moments (SPEC section 5) and moment soft
+// shadow mapping for a directional light (seed 001 section 3).
+//
+// A table holds, per texel (x, y), four uint32 channels: the prefix sums over all texels
+// i <= x, j <= y of round(c * scale), where c are the channels R, G, B, A of the msm64
+// affine basis (SPEC section 3) of the texel's resolved moments (mean of b(z) over its
+// MSAA samples, no blur) and scale = floor((2^32 - 1) / N) for the largest kernel of N
+// texels the caller will query. The sums wrap mod 2^32; any rectangle of at most N texels
+// comes out exact. Precision: log2(scale) bits per channel (N = 27^2: 22.5 bits).
+//
+// Queries that would exceed N texels: the host query functions throw input_error; the
+// device query kernel writes NaN moments; soft shadows never issue one (the blocker
+// search square must satisfy K^2 <= N, checked up front, and the filter side is clamped
+// to floor(sqrt(N)) texels, see SoftShadowOptions).
+//
+// The device functions a renderer includes are in kernels/msm_sat.clh.
+#pragma once
+
+#include <msmcl/context.hpp>
+#include <msmcl/enqueue.hpp>
+#include <msmcl/filter.hpp>
+#include <msmcl/formats.hpp>
+#include <msmcl/shading.hpp>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace msmcl {
+
+/// Smallest and largest N (texels of the largest kernel) a table may declare. N = 1 would
+/// need a scale of 2^32 - 1, more than a file's int attribute holds, and allows no filtering.
+inline constexpr std::uint32_t sat_min_kernel_texels = 2;
+inline constexpr std::uint32_t sat_max_kernel_texels = 0x7fffffffu;
+
+/// floor((2^32 - 1) / N). Throws input_error for N outside
+/// [sat_min_kernel_texels, sat_max_kernel_texels].
+std::uint32_t sat_scale(std::uint32_t max_kernel_texels);
+
+/// Which kernels build the table. All give the same bits. The tiled scans read the input
+/// twice (tile totals, then the scan) and write the table once; carries between tiles are
+/// prefix sums over 1/16 to 1/32 of the texels.
+enum class SatKernel {
+    automatic,      ///< tiled_gpu on GPUs, tiled_cpu elsewhere
+    tiled_gpu,      ///< 32x32 tiles in local memory; work-items walk tile columns, then tile rows
+                    ///< (one add per texel and direction, conflict-free padded rows)
+    tiled_cpu,      ///< 16x64 tiles, one work-item each in 16-lane vectors: column walks, then
+                    ///< four shuffle-and-add steps across the lanes (what PoCL's CPU device runs well)
+    row_per_thread, ///< the papers' baseline: one work-item per row, then one per column
+};
+
+struct SatOptions {
+    /// N: texels of the largest rectangle that will ever be queried (27 x 27 = 729 by default).
+    std::uint32_t max_kernel_texels = 27 * 27;
+    DepthRange depth_range = DepthRange::zero_one;
+    SatKernel kernel = SatKernel::automatic;
+};
+
+/// A table in host memory.
+struct SatTable {
+    int width = 0;
+    int height = 0;
+    std::uint32_t max_kernel_texels = 0; ///< N
+    std::uint32_t scale = 0;             ///< sat_scale(N)
+    /// 4 words per texel (channels R, G, B, A), row-major, rows top to bottom.
+    std::vector<std::uint32_t> words;
+
+    const std::uint32_t* texel(int x, int y) const {
+        return words.data() + 4 * (static_cast<std::size_t>(y) * width + x);
+    }
+};
+
+/// Builds the table of a host depth map. Validates like filter(): size, sample count (1, 2,
+/// 4, 8, 16), every depth finite and inside the range (input_error names the first bad
+/// texel), and N.
+SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& options);
+
+/// Device version: `depth` as for filter(); `table` a buffer of at least
+/// 16 * width * height bytes. Depth values are not validated (out-of-range values clamp to
+/// the range, NaN counts as the near plane), like filter().
+void build_sat(Context& context, const DeviceDepth& depth, cl_mem table, const SatOptions& options,
+               const Enqueue& enqueue = {});
+
+/// The prefix sums alone, for callers that quantize their own texels: `texels` holds 4
+/// uint32 per texel (row-major), the result the wrapping 2D prefix sums.
+std::vector<std::uint32_t> sat_prefix_sums(Context& context, const std::vector<std::uint32_t>& texels, int width,
+                                           int height, SatKernel kernel = SatKernel::automatic);
+/// Device version: `texels` and `table` buffers of at least 16 * width * height bytes each,
+/// distinct.
+void sat_prefix_sums(Context& context, cl_mem texels, cl_mem table, int width, int height,
+                     SatKernel kernel = SatKernel::automatic, const Enqueue& enqueue = {});
+
+// ---- Queries on the host (the functions of kernels/msm_sat.clh compiled as C++).
+
+/// Exact channel sums over the texels [x0, x1] x [y0, y1] (inclusive). Throws input_error
+/// when the rectangle is empty, leaves the table or holds more than N texels.
+std::array<std::uint32_t, 4> sat_rectangle_sum(const SatTable& table, int x0, int y0, int x1, int y1);
+
+/// Mean power moments b1..b4 (unbiased) over the texels [x0, x1] x [y0, y1]: the exact
+/// sum converted to float, divided by scale and area, affine basis inverted.
+Moments4 sat_rectangle_moments(const SatTable& table, int x0, int y0, int x1, int y1);
+
+/// A rectangle in texel units with arbitrary corners: [left, right) x [top, bottom), texel
+/// i covering [i, i + 1).
+struct SatRectangle {
+    float left = 0, top = 0, right = 0, bottom = 0;
+};
+
+/// Mean power moments over the rectangle, each texel weighted by its covered area (the
+/// interpolated query: 4x4 table entries, 3x3 exact sums converted to float one by one).
+/// Throws input_error when the rectangle is empty, not finite, leaves [0, width] x
+/// [0, height], or one of its 3x3 sub-rectangles holds more than N texels.
+Moments4 sat_interpolated_moments(const SatTable& table, const SatRectangle& rectangle);
+
+/// A table already on the device: a buffer with 4 uint32 per texel, layout as SatTable.
+struct DeviceSat {
+    cl_mem buffer = nullptr;
+    int width = 0;
+    int height = 0;
+    std::uint32_t max_kernel_texels = 0; ///< N the table was built for
+};
+
+/// Device queries: `rectangles` holds 4 floats per query (left, top, right, bottom);
+/// `moments` receives 4 floats per query (b1..b4, as sat_interpolated_moments). A
+/// rectangle that is empty, not finite, leaves the map or exceeds N texels gives NaN.
+void sat_query_moments(Context& context, const DeviceSat& table, cl_mem rectangles, std::size_t count,
+                       cl_mem moments, const Enqueue& enqueue = {});
+
+// ---- Moment soft shadows (directional light).
+
+struct SoftShadowOptions {
+    /// Penumbra width in texels per unit of internal depth z (in [-1,1]) between receiver
+    /// and average blocker: filter side = light_size * (zf - z_blocker). For a light of
+    /// angular diameter theta, a light frustum depth of D world units (z spans 2) and
+    /// texels of t world units: light_size = tan(theta) * D / (2 t). Finite, >= 0.
+    float light_size = 64.0f;
+    /// Side K of the texel-aligned blocker search square (texels); 0 = floor(sqrt(N)).
+    /// K^2 must not exceed N.
+    int search_size = 0;
+    /// Smallest filter side in texels (the fully lit and contact case), in (0, floor(sqrt(N))].
+    float min_filter_size = 1.0f;
+    /// Subtracted from the receiver's internal depth before shading.
+    float depth_bias = 1e-3f;
+    /// Convention of the receivers' z.
+    DepthRange depth_range = DepthRange::zero_one;
+};
+
+/// The blocker search side and the largest filter side (floor(sqrt(N))) the options give
+/// for a table of N texels; throws input_error for invalid options.
+struct SoftShadowLimits {
+    int search_size = 0;
+    float max_filter_size = 0;
+};
+SoftShadowLimits soft_shadow_limits(std::uint32_t max_kernel_texels, const SoftShadowOptions& options);
+
+/// Shadow intensity (0 lit, 1 shadowed) per receiver (u, v in texels, z as rendered).
+/// Receivers outside the map clamp to its edge. Throws input_error for an invalid table,
+/// options, mismatched receiver arrays or non-finite receiver values.
+std::vector<float> soft_shade(Context& context, const SatTable& table, const Receivers& receivers,
+                              const SoftShadowOptions& options);
+
+/// Device version: `receivers_uvz` holds 3 * count floats, planar (all u, then all v,
+/// then all z); `intensity` receives count floats.
+void soft_shade(Context& context, const DeviceSat& table, cl_mem receivers_uvz, std::size_t count,
+                cl_mem intensity, const SoftShadowOptions& options, const Enqueue& enqueue = {});
+
+/// The same soft shadow of one receiver computed on the host (float32, the code of
+/// kernels/msm_sat.clh), for tools and tests without a device.
+float soft_shadow_at(const SatTable& table, float u, float v, float z, const SoftShadowOptions& options);
+
+} // namespace msmcl
