@@ -42,5 +42,22 @@ for entry in "${scenes[@]}"; do
     done
   done
 done
+# Soft shadows: a summed-area table of the moments, then moment soft shadow mapping with a
+# directional light of finite size (contact hardening at the railing posts, at Wuson's feet).
+for entry in "${scenes[@]}"; do
+  IFS=: read -r name depth receivers lighting <<<"$entry"
+  case $name in
+    *_256) max_kernel=729; light_size=40 ;;
+    *) max_kernel=4096; light_size=60 ;;
+  esac
+  "$msmcl" sat "$depth" "$out/${name}_sat.exr" --max-kernel "$max_kernel"
+  "$msmcl" soft "$out/${name}_sat.exr" "$receivers" "$out/${name}_soft_shadow.exr" --light-size "$light_size" --depth-bias 0.02
+  if [ -n "$lighting" ]; then
+    "$tools/msmcl-preview" "$out/${name}_soft_shadow.exr" "$out/${name}_soft.png" --lighting "$lighting"
+  else
+    "$tools/msmcl-preview" "$out/${name}_soft_shadow.exr" "$out/${name}_soft.png" --black 1 --white 0
+  fi
+done
+
 echo "main job: textures, shadows and previews in $out"
 ls "$out"/*.png | sed 's/^/  /'
