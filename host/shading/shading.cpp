@@ -47,12 +47,6 @@ msm_moments raw_moments128(const std::uint32_t* words) {
     return m;
 }
 
-// Moments that bilinear lookups interpolate: raw (moments128) or decoded (msm64).
-msm_moments interpolable_moments(const Texture& map, int x, int y) {
-    const std::uint32_t* words = map.texel(x, y);
-    return map.format == Format::moments128 ? raw_moments128(words) : msm_decode_msm64(word2_of(words));
-}
-
 } // namespace
 
 Moments4 bias_moments(const Moments4& b, float alpha, float bstar) {
@@ -77,6 +71,10 @@ float hamburger4_lower(const Moments4& biased, float zf) { return msm_hamburger4
 
 float hamburger4_upper(const Moments4& biased, float zf) { return msm_hamburger4_upper(to_clh(biased), zf); }
 
+float linear_shadow(const Moments4& unbiased, float alpha, float bstar, float zf) {
+    return msm_shadow_linear_df(msm_moments_df_from_float(to_clh(unbiased)), alpha, bstar, zf);
+}
+
 float nlq_shadow(const NlqTexel& texel, float zf) { return msm_nlq_shadow(to_clh(texel), zf); }
 
 float shade_texel(const Texture& map, int x, int y, float zf) {
@@ -98,15 +96,17 @@ float shade_receiver(const Texture& map, float u, float v, float z, const ShadeO
         return shade_texel(map, msm_texel_index(u, map.width), msm_texel_index(v, map.height), zf);
     // Bilinear: the four texels around (u - 0.5, v - 0.5), clamped to the edge.
     msm_bilinear_taps taps = msm_bilinear_taps_at(u, v, map.width, map.height);
-    if (map.format == Format::moments128 || map.format == Format::msm64) {
-        // Interpolate the (decoded) moments, then bias and shade once.
-        msm_moments blended = msm_moments_bilinear(
-            interpolable_moments(map, taps.x0, taps.y0), interpolable_moments(map, taps.x1, taps.y0),
-            interpolable_moments(map, taps.x0, taps.y1), interpolable_moments(map, taps.x1, taps.y1),
-            taps.tx, taps.ty);
-        return map.format == Format::moments128 ? msm_shadow_moments128(blended, zf)
-                                                : msm_shadow_msm64_decoded(blended, zf);
-    }
+    // moments128/msm64: blend the moments in float-float, then bias and shade once.
+    const std::uint32_t* t00 = map.texel(taps.x0, taps.y0);
+    const std::uint32_t* t10 = map.texel(taps.x1, taps.y0);
+    const std::uint32_t* t01 = map.texel(taps.x0, taps.y1);
+    const std::uint32_t* t11 = map.texel(taps.x1, taps.y1);
+    if (map.format == Format::moments128)
+        return msm_shadow_moments128_bilinear(raw_moments128(t00), raw_moments128(t10), raw_moments128(t01),
+                                              raw_moments128(t11), taps.tx, taps.ty, zf);
+    if (map.format == Format::msm64)
+        return msm_shadow_msm64_bilinear(word2_of(t00), word2_of(t10), word2_of(t01), word2_of(t11), taps.tx,
+                                         taps.ty, zf);
     // nlq64/nlq32: shade the four texels, interpolate the intensities.
     return clamp(msm_bilinear(shade_texel(map, taps.x0, taps.y0, zf), shade_texel(map, taps.x1, taps.y0, zf),
                               shade_texel(map, taps.x0, taps.y1, zf), shade_texel(map, taps.x1, taps.y1, zf),

@@ -36,6 +36,12 @@ NlqTexel decode_nlq32(std::uint32_t word);
 /// moments; the upper bound adds the weight w0 at zf.
 float hamburger4_lower(const Moments4& biased, float zf);
 float hamburger4_upper(const Moments4& biased, float zf);
+/// Accurate lower bound for the linear formats from UNBIASED moments (raw moments128, or
+/// decoded msm64) and their bias (alpha, bstar): moments about their mean in float-float,
+/// biased there, then the 4MSM; what shade_texel runs for moments128. hamburger4_lower on
+/// bias_moments(...) is the fast float32 path: where alpha is small (moments128, 3e-7) it
+/// keeps one or two digits of the biased variance in flat regions.
+float linear_shadow(const Moments4& unbiased, float alpha, float bstar, float zf);
 /// Algorithm 3 (lower bound) from a decoded nlq texel.
 float nlq_shadow(const NlqTexel& texel, float zf);
 
