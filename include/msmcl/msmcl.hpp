@@ -5,6 +5,7 @@
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
 #include <msmcl/formats.hpp>
+#include <msmcl/interop.hpp>
 #include <msmcl/sat.hpp>
 #include <msmcl/shade.hpp>
 #include <msmcl/shading.hpp>

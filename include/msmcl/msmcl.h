@@ -1,0 +1,238 @@
+/* msmcl C API: the C++ API (msmcl.hpp) for engines written in C or bound from other
+ * languages. Opaque context handle, plain structs, status codes; no exception crosses it.
+ *
+ * Errors: every function returning msmcl_status returns MSMCL_SUCCESS or an error code.
+ * After an error, msmcl_last_error_message() reads what went wrong (one line, or the
+ * OpenCL build log for MSMCL_ERROR_BUILD) and msmcl_last_opencl_error() the cl_int of a
+ * failed OpenCL call. Both are per thread, reset by each call that returns a status, and
+ * valid until the next such call on the same thread.
+ *
+ * Threads: a context is not thread-safe; use one per thread (as msmcl::Context).
+ * Memory: the library never keeps the caller's pointers past a call; it retains the
+ * OpenCL objects of msmcl_context_create_from_cl and releases only what it retained.
+ *
+ * Layouts (as the C++ API):
+ *  - host depth maps: float depth[(y * width + x) * samples + s], rows top to bottom;
+ *  - textures: row-major, msmcl_texel_bytes(format) bytes per texel, little-endian:
+ *    moments128 = 4 floats b1..b4; msm64/nlq64 = 4 uint16 codes (R, G, B, A);
+ *    nlq32 = 1 uint32;
+ *  - summed-area tables: 4 uint32 per texel (R, G, B, A);
+ *  - device receivers: 3 * count floats, planar (all u, all v, all z).
+ */
+#ifndef MSMCL_MSMCL_H
+#define MSMCL_MSMCL_H
+
+#include <CL/cl.h>
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32)
+#define MSMCL_C_API
+#else
+#define MSMCL_C_API __attribute__((visibility("default")))
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- Status codes */
+
+typedef enum msmcl_status {
+    MSMCL_SUCCESS = 0,
+    MSMCL_ERROR_INVALID_ARGUMENT = 1, /* null handle or pointer, unknown enum value, output too small */
+    MSMCL_ERROR_INPUT = 2,            /* unusable data: bad size, NaN depth, wrong image format... */
+    MSMCL_ERROR_OPENCL = 3,           /* an OpenCL call failed: see msmcl_last_opencl_error() */
+    MSMCL_ERROR_BUILD = 4,            /* a kernel did not build: the message holds the build log */
+    MSMCL_ERROR_DEVICE = 5,           /* no OpenCL device matches, or the device cannot run a kernel */
+    MSMCL_ERROR_OUT_OF_MEMORY = 6,    /* host allocation failed */
+    MSMCL_ERROR_INTERNAL = 7          /* anything else */
+} msmcl_status;
+
+/* "MSMCL_SUCCESS", "MSMCL_ERROR_INPUT", ...; "MSMCL_UNKNOWN_STATUS" for other values. */
+MSMCL_C_API const char* msmcl_status_name(msmcl_status status);
+/* The message of the last failed call on this thread ("" after a success). */
+MSMCL_C_API const char* msmcl_last_error_message(void);
+/* The cl_int of the last failed OpenCL call on this thread (CL_SUCCESS if none). */
+MSMCL_C_API cl_int msmcl_last_opencl_error(void);
+
+/* "0.1.0", and its parts. Any pointer may be null. */
+MSMCL_C_API const char* msmcl_version_string(void);
+MSMCL_C_API void msmcl_version(int* major, int* minor, int* patch);
+
+/* ---- Enumerations (the order of the C++ enums) */
+
+typedef enum msmcl_format {
+    MSMCL_FORMAT_MOMENTS128 = 0, /* 16 bytes: float b1..b4;            CL_RGBA/CL_FLOAT */
+    MSMCL_FORMAT_MSM64 = 1,      /* 8 bytes: unorm16 affine basis;      CL_RGBA/CL_UNORM_INT16 */
+    MSMCL_FORMAT_NLQ64 = 2,      /* 8 bytes: unorm16 y1, y2, v2, Psi4;  CL_RGBA/CL_UNORM_INT16 */
+    MSMCL_FORMAT_NLQ32 = 3       /* 4 bytes: packed uint32;             CL_R/CL_UNSIGNED_INT32 */
+} msmcl_format;
+
+typedef enum msmcl_depth_range {
+    MSMCL_DEPTH_RANGE_ZERO_ONE = 0,     /* d in [0,1] (D3D, Vulkan) */
+    MSMCL_DEPTH_RANGE_MINUS_ONE_ONE = 1 /* d in [-1,1] (OpenGL) */
+} msmcl_depth_range;
+
+typedef enum msmcl_filter_kernel {
+    MSMCL_FILTER_KERNEL_AUTOMATIC = 0,
+    MSMCL_FILTER_KERNEL_FUSED_PAPER = 1,
+    MSMCL_FILTER_KERNEL_THREE_PASS = 2,
+    MSMCL_FILTER_KERNEL_FUSED_CPU = 3
+} msmcl_filter_kernel;
+
+typedef enum msmcl_lookup { MSMCL_LOOKUP_NEAREST = 0, MSMCL_LOOKUP_BILINEAR = 1 } msmcl_lookup;
+
+/* How the samples of a depth image lie (include/msmcl/interop.hpp, SampleLayout). */
+typedef enum msmcl_sample_layout {
+    MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE = 0, /* 2D image (width * samples) x height */
+    MSMCL_SAMPLE_LAYOUT_LAYERS = 1        /* 2D image array, layer s = sample s */
+} msmcl_sample_layout;
+
+/* Bytes per texel of a format (16, 8, 8, 4); 0 for an unknown value. */
+MSMCL_C_API size_t msmcl_texel_bytes(msmcl_format format);
+/* "moments128", "msm64", "nlq64", "nlq32"; NULL for an unknown value. */
+MSMCL_C_API const char* msmcl_format_name(msmcl_format format);
+/* Inverse of msmcl_format_name: MSMCL_ERROR_INVALID_ARGUMENT for an unknown name. */
+MSMCL_C_API msmcl_status msmcl_parse_format(const char* name, msmcl_format* format);
+/* The natural image format of a texture, and of a summed-area table (CL_RGBA/CL_UNSIGNED_INT32). */
+MSMCL_C_API msmcl_status msmcl_texture_image_format(msmcl_format format, cl_image_format* image_format);
+MSMCL_C_API cl_image_format msmcl_sat_image_format(void);
+
+/* ---- Context */
+
+typedef struct msmcl_context msmcl_context;
+
+typedef struct msmcl_context_options {
+    const char* device;   /* "gpu", "cpu", an index, "P:D" or a name substring; NULL = not given */
+    const char* platform; /* a platform index or name substring; NULL = not given */
+    int strict;           /* nonzero: a spec that matches nothing is an error, not a fallback */
+    int use_environment;  /* nonzero: MSMCL_DEVICE / MSMCL_PLATFORM apply when no spec is given */
+} msmcl_context_options;
+
+/* Defaults: no specs, not strict, environment used. */
+MSMCL_C_API void msmcl_context_options_init(msmcl_context_options* options);
+/* Picks a device and creates its context and queue. `options` may be NULL (defaults). */
+MSMCL_C_API msmcl_status msmcl_context_create(const msmcl_context_options* options, msmcl_context** context);
+/* Works inside an engine's OpenCL context; `queue` may be NULL (msmcl creates one). */
+MSMCL_C_API msmcl_status msmcl_context_create_from_cl(cl_context opencl_context, cl_device_id device,
+                                                      cl_command_queue queue, msmcl_context** context);
+/* Releases the context (NULL is ignored). */
+MSMCL_C_API void msmcl_context_destroy(msmcl_context* context);
+
+/* The OpenCL objects (owned by the context: retain them to keep them longer); NULL for a NULL context. */
+MSMCL_C_API cl_context msmcl_context_cl_context(const msmcl_context* context);
+MSMCL_C_API cl_device_id msmcl_context_cl_device(const msmcl_context* context);
+MSMCL_C_API cl_command_queue msmcl_context_cl_queue(const msmcl_context* context);
+/* The device's name, valid as long as the context; "" for a NULL context. */
+MSMCL_C_API const char* msmcl_context_device_name(const msmcl_context* context);
+/* Blocks until the context's own queue is idle. */
+MSMCL_C_API msmcl_status msmcl_context_finish(msmcl_context* context);
+/* Directory of the on-disk program binary cache; NULL or "" disables it. */
+MSMCL_C_API msmcl_status msmcl_context_set_binary_cache_dir(msmcl_context* context, const char* directory);
+/* Programs built (not found in a cache) since the context was created. */
+MSMCL_C_API size_t msmcl_context_programs_built(const msmcl_context* context);
+
+/* ---- Command plumbing of the device calls (include/msmcl/enqueue.hpp).
+ * queue NULL = the context's queue. The call waits for `wait_for` (wait_count events);
+ * if `done` is non-NULL it receives a new event of the call's last command, which the
+ * caller releases. Nothing blocks unless `blocking` is nonzero. A NULL msmcl_enqueue
+ * pointer means all of these defaults. */
+typedef struct msmcl_enqueue {
+    cl_command_queue queue;
+    const cl_event* wait_for;
+    cl_uint wait_count;
+    cl_event* done;
+    int blocking;
+} msmcl_enqueue;
+
+/* ---- Filter: depth map -> moment shadow map */
+
+typedef struct msmcl_filter_options {
+    msmcl_format format;           /* default MSMCL_FORMAT_NLQ64 */
+    float sigma;                   /* Gaussian sigma in texels, default 2.4; 0 = no blur */
+    msmcl_depth_range depth_range; /* default MSMCL_DEPTH_RANGE_ZERO_ONE */
+    msmcl_filter_kernel kernel;    /* default MSMCL_FILTER_KERNEL_AUTOMATIC */
+} msmcl_filter_options;
+
+MSMCL_C_API void msmcl_filter_options_init(msmcl_filter_options* options);
+
+/* Host depth map in, host texture out: `texture` receives width * height *
+ * msmcl_texel_bytes(format) bytes (texture_bytes must be at least that). Depths are
+ * validated (MSMCL_ERROR_INPUT names the first bad texel). `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_filter(msmcl_context* context, const float* depth, int width, int height,
+                                      int samples, const msmcl_filter_options* options, void* texture,
+                                      size_t texture_bytes);
+
+/* A depth map on the device. `memory` is either
+ *  - a buffer of width * height * samples floats, texel-major (as the host layout), or
+ *  - a 2D image or 2D image array, CL_R or CL_DEPTH / CL_FLOAT, samples as `layout` says.
+ * Values are not validated on the device (out of range clamps, NaN = near plane). */
+typedef struct msmcl_device_depth {
+    cl_mem memory;
+    int width;
+    int height;
+    int samples;
+    msmcl_sample_layout layout; /* images only */
+} msmcl_device_depth;
+
+/* Device depth in, device texture out, no host copy. `texture` is either a buffer of at
+ * least width * height * msmcl_texel_bytes(format) bytes (layout as the host texture), or
+ * a 2D image of at least width x height of msmcl_texture_image_format(format) (for msm64
+ * and nlq64 also CL_RGBA/CL_UNSIGNED_INT16). `options` and `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_filter_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                             cl_mem texture, const msmcl_filter_options* options,
+                                             const msmcl_enqueue* enqueue);
+
+/* ---- Shade: shadow intensity (0 lit, 1 shadowed) of receivers */
+
+typedef struct msmcl_shade_options {
+    msmcl_lookup lookup;           /* default MSMCL_LOOKUP_BILINEAR */
+    float depth_bias;              /* subtracted from the receiver's internal depth; default 1e-3 */
+    msmcl_depth_range depth_range; /* convention of the receivers' z; default zero_one */
+} msmcl_shade_options;
+
+MSMCL_C_API void msmcl_shade_options_init(msmcl_shade_options* options);
+
+/* Host texture and receivers in, host intensities out (count floats). u, v in texels of
+ * the map, z as rendered. `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_shade(msmcl_context* context, msmcl_format format, int width, int height,
+                                     const void* texture, size_t texture_bytes, const float* u, const float* v,
+                                     const float* z, size_t count, const msmcl_shade_options* options,
+                                     float* intensity);
+
+/* Device version: `texture` a buffer (layout as the host texture), `receivers_uvz` 3 *
+ * count floats planar, `intensity` count floats. */
+MSMCL_C_API msmcl_status msmcl_shade_device(msmcl_context* context, msmcl_format format, int width, int height,
+                                            cl_mem texture, cl_mem receivers_uvz, size_t count, cl_mem intensity,
+                                            const msmcl_shade_options* options, const msmcl_enqueue* enqueue);
+
+/* ---- Summed-area tables of moments (soft shadows; include/msmcl/sat.hpp) */
+
+typedef struct msmcl_sat_options {
+    uint32_t max_kernel_texels;    /* N: texels of the largest rectangle ever queried; default 27 * 27 */
+    msmcl_depth_range depth_range; /* default zero_one */
+} msmcl_sat_options;
+
+MSMCL_C_API void msmcl_sat_options_init(msmcl_sat_options* options);
+/* floor((2^32 - 1) / N), the integer scale of the table's channels. */
+MSMCL_C_API msmcl_status msmcl_sat_scale(uint32_t max_kernel_texels, uint32_t* scale);
+
+/* Host depth map in, host table out: `table` receives 4 * width * height uint32
+ * (table_words at least that). `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_build_sat(msmcl_context* context, const float* depth, int width, int height,
+                                         int samples, const msmcl_sat_options* options, uint32_t* table,
+                                         size_t table_words);
+
+/* Device depth in, device table out: `table` a buffer of at least 16 * width * height
+ * bytes, or a 2D image of CL_RGBA/CL_UNSIGNED_INT32 of at least width x height. */
+MSMCL_C_API msmcl_status msmcl_build_sat_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                                cl_mem table, const msmcl_sat_options* options,
+                                                const msmcl_enqueue* enqueue);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* MSMCL_MSMCL_H */

@@ -1,0 +1,9 @@
+// Device data in (host/ops/interop.cpp): the S planes of a layered depth image, copied to a
+// buffer (plane s = sample s, texels row-major), interleaved into the texel-major layout of
+// DeviceDepth: depth[texel * S + s].
+__kernel void depth_interleave_layers(__global const float* planes, uint texels, uint samples,
+                                      __global float* depth) {
+    const size_t texel = get_global_id(0);
+    if (texel >= texels) return;
+    for (uint s = 0; s < samples; ++s) depth[texel * samples + s] = planes[(size_t)s * texels + texel];
+}

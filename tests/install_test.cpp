@@ -1,0 +1,173 @@
+// The installed package: `cmake --install` of this build tree into a temporary prefix, then
+// what an engine's build sees there: files in place, a shared library that exports the
+// public API only under its SONAME, find_package(msmcl CONFIG) from a fresh consumer
+// project (examples/, C++ and C, shared and static), and pkg-config.
+// Needs cmake, a C compiler, nm, readelf and pkg-config (paths from CMakeLists.txt).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+    int exit_code = -1;
+    std::string output; // stdout and stderr
+};
+
+// Runs a shell command line, capturing its output.
+Outcome run(const std::string& command) {
+    Outcome outcome;
+    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+    if (!pipe) return outcome;
+    std::array<char, 4096> chunk{};
+    std::size_t read = 0;
+    while ((read = std::fread(chunk.data(), 1, chunk.size(), pipe)) > 0) outcome.output.append(chunk.data(), read);
+    const int status = pclose(pipe);
+    outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return outcome;
+}
+
+std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+// The install prefix and consumer build, shared by the tests of this file (one install).
+class InstallTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        root_ = fs::temp_directory_path() / ("msmcl-install-test-" + std::to_string(getpid()));
+        fs::remove_all(root_);
+        fs::create_directories(root_);
+        prefix_ = root_ / "prefix";
+        install_ = run(std::string("'") + MSMCL_CMAKE_COMMAND + "' --install '" + MSMCL_BINARY_DIR + "' --prefix " +
+                       quoted(prefix_));
+    }
+    static void TearDownTestSuite() {
+        // Keep the directory for a look when something failed.
+        if (!::testing::UnitTest::GetInstance()->Failed()) fs::remove_all(root_);
+    }
+    void SetUp() override { ASSERT_EQ(install_.exit_code, 0) << install_.output; }
+
+    static fs::path libdir() { return prefix_ / MSMCL_INSTALL_LIBDIR; }
+
+    static fs::path root_;
+    static fs::path prefix_;
+    static Outcome install_;
+};
+
+fs::path InstallTest::root_;
+fs::path InstallTest::prefix_;
+Outcome InstallTest::install_;
+
+TEST_F(InstallTest, PutsLibrariesHeadersPackageAndToolsInPlace) {
+    const fs::path include = prefix_ / MSMCL_INSTALL_INCLUDEDIR / "msmcl";
+    for (const char* header : {"msmcl.hpp", "msmcl.h", "version.hpp", "context.hpp", "filter.hpp", "interop.hpp",
+                               "formats.hpp", "errors.hpp", "enqueue.hpp", "shade.hpp", "shading.hpp"})
+        EXPECT_TRUE(fs::is_regular_file(include / header)) << header;
+    const std::string so = "libmsmcl.so";
+    EXPECT_TRUE(fs::is_regular_file(libdir() / (so + "." + MSMCL_VERSION)));
+    EXPECT_TRUE(fs::is_symlink(libdir() / (so + "." + MSMCL_SOVERSION)));
+    EXPECT_TRUE(fs::is_symlink(libdir() / so));
+    EXPECT_TRUE(fs::is_regular_file(libdir() / "libmsmcl.a"));
+    for (const char* file : {"msmclConfig.cmake", "msmclConfigVersion.cmake", "msmclTargets.cmake",
+                             "msmclStaticTargets.cmake"})
+        EXPECT_TRUE(fs::is_regular_file(libdir() / "cmake" / "msmcl" / file)) << file;
+    EXPECT_TRUE(fs::is_regular_file(libdir() / "pkgconfig" / "msmcl.pc"));
+    const fs::path data = prefix_ / MSMCL_INSTALL_DATADIR / "msmcl";
+    EXPECT_TRUE(fs::is_regular_file(data / "kernels" / "msm_shading.clh"));
+    EXPECT_TRUE(fs::is_regular_file(data / "kernels" / "msm_portable.clh"));
+    if (fs::exists(fs::path(MSMCL_SOURCE_DIR) / "shaders" / "msm.glsl"))
+        EXPECT_TRUE(fs::is_regular_file(data / "shaders" / "msm.glsl"));
+    EXPECT_TRUE(fs::is_regular_file(prefix_ / MSMCL_INSTALL_BINDIR / "msmcl"));
+}
+
+TEST_F(InstallTest, SharedLibraryHasSonameAndExportsThePublicApiOnly) {
+    const fs::path library = libdir() / (std::string("libmsmcl.so.") + MSMCL_VERSION);
+    const Outcome dynamic = run(std::string("'") + MSMCL_READELF_COMMAND + "' -d " + quoted(library));
+    ASSERT_EQ(dynamic.exit_code, 0) << dynamic.output;
+    EXPECT_NE(dynamic.output.find(std::string("Library soname: [libmsmcl.so.") + MSMCL_SOVERSION + "]"),
+              std::string::npos)
+        << dynamic.output;
+
+    const Outcome symbols = run(std::string("'") + MSMCL_NM_COMMAND + "' -D -C --defined-only " + quoted(library));
+    ASSERT_EQ(symbols.exit_code, 0) << symbols.output;
+    std::istringstream lines(symbols.output);
+    std::string line;
+    int public_cpp = 0, public_c = 0;
+    while (std::getline(lines, line)) {
+        // "<address> <type> <name>": the name starts after the second blank.
+        const std::size_t first = line.find(' ');
+        const std::size_t second = first == std::string::npos ? first : line.find(' ', first + 1);
+        if (second == std::string::npos) continue;
+        const std::string name = line.substr(second + 1);
+        const bool version_node = name.rfind("MSMCL_", 0) == 0;
+        const bool cpp_api = name.rfind("msmcl::", 0) == 0 || name.find(" for msmcl::") != std::string::npos;
+        const bool c_api = name.rfind("msmcl_", 0) == 0;
+        EXPECT_TRUE(version_node || cpp_api || c_api) << "exported: " << name;
+        EXPECT_EQ(name.find("msmcl::detail::"), std::string::npos) << "exported: " << name;
+        public_cpp += name.rfind("msmcl::filter(", 0) == 0;
+        public_c += name.rfind("msmcl_filter@", 0) == 0;
+    }
+    EXPECT_GE(public_cpp, 2) << symbols.output; // host and device overloads
+    EXPECT_EQ(public_c, 1) << symbols.output;
+}
+
+// A fresh project (examples/) finds the installed package and builds against it, from C++
+// and C, shared and static; the examples check their own results.
+TEST_F(InstallTest, ConsumerProjectFindsThePackageAndRuns) {
+    const fs::path build = root_ / "consumer";
+    const Outcome configure = run(std::string("'") + MSMCL_CMAKE_COMMAND + "' -S '" + MSMCL_SOURCE_DIR +
+                                  "/examples' -B " + quoted(build) + " -DCMAKE_BUILD_TYPE=Release" +
+                                  " -DCMAKE_PREFIX_PATH=" + quoted(prefix_) +
+                                  " -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON -DCMAKE_C_COMPILER='" +
+                                  MSMCL_C_COMPILER + "' -DCMAKE_CXX_COMPILER='" + MSMCL_CXX_COMPILER + "'");
+    ASSERT_EQ(configure.exit_code, 0) << configure.output;
+    // It found the installed package, not this build tree.
+    std::ifstream cache(build / "CMakeCache.txt");
+    const std::string cache_text((std::istreambuf_iterator<char>(cache)), std::istreambuf_iterator<char>());
+    EXPECT_NE(cache_text.find("msmcl_DIR:PATH=" + (libdir() / "cmake" / "msmcl").string()), std::string::npos);
+
+    const Outcome compile = run(std::string("'") + MSMCL_CMAKE_COMMAND + "' --build " + quoted(build) + " -j2");
+    ASSERT_EQ(compile.exit_code, 0) << compile.output;
+    for (const char* example : {"msmcl_example_engine", "msmcl_example_c", "msmcl_example_c_static"}) {
+        SCOPED_TRACE(example);
+        ASSERT_TRUE(fs::is_regular_file(build / example));
+        const Outcome result = run(quoted(build / example));
+        EXPECT_EQ(result.exit_code, 0) << result.output;
+        EXPECT_NE(result.output.find(": ok"), std::string::npos) << result.output;
+    }
+    // The shared examples load the installed library (through the build RPATH).
+    const Outcome needed = run(std::string("'") + MSMCL_READELF_COMMAND + "' -d " + quoted(build / "msmcl_example_c"));
+    EXPECT_NE(needed.output.find(std::string("libmsmcl.so.") + MSMCL_SOVERSION), std::string::npos) << needed.output;
+}
+
+TEST_F(InstallTest, PkgConfigBuildsTheCExample) {
+    const std::string environment = "PKG_CONFIG_PATH=" + quoted(libdir() / "pkgconfig") + " ";
+    const std::string pkg_config = environment + "'" + MSMCL_PKG_CONFIG_COMMAND + "' ";
+    const Outcome version = run(pkg_config + "--modversion msmcl");
+    ASSERT_EQ(version.exit_code, 0) << version.output;
+    EXPECT_EQ(version.output, std::string(MSMCL_VERSION) + "\n");
+    const Outcome flags = run(pkg_config + "--cflags --libs msmcl");
+    ASSERT_EQ(flags.exit_code, 0) << flags.output;
+    EXPECT_NE(flags.output.find("-lmsmcl"), std::string::npos) << flags.output;
+    const Outcome static_flags = run(pkg_config + "--static --libs msmcl");
+    EXPECT_EQ(static_flags.exit_code, 0) << static_flags.output;
+
+    const fs::path program = root_ / "example_c_pkgconfig";
+    const Outcome compile = run(std::string("'") + MSMCL_C_COMPILER + "' -std=c99 '" + MSMCL_SOURCE_DIR +
+                                "/examples/engine.c' -o " + quoted(program) + " $(" + pkg_config +
+                                "--cflags --libs msmcl) -Wl,-rpath," + quoted(libdir()));
+    ASSERT_EQ(compile.exit_code, 0) << compile.output;
+    const Outcome result = run(quoted(program));
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("example_c: ok"), std::string::npos) << result.output;
+}
+
+} // namespace
