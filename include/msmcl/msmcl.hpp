@@ -7,6 +7,7 @@
 #include <msmcl/formats.hpp>
 #include <msmcl/interop.hpp>
 #include <msmcl/sat.hpp>
+#include <msmcl/scatter.hpp>
 #include <msmcl/shade.hpp>
 #include <msmcl/shading.hpp>
 #include <msmcl/version.hpp>

@@ -1,0 +1,153 @@
+#include "cli/scatter_commands.hpp"
+
+#include "io/exr_io.hpp"
+
+#include <msmcl/errors.hpp>
+#include <msmcl/scatter.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace msmcl::cli {
+namespace {
+
+float parse_float_option(const std::string& option, const std::string& text) {
+    char* end = nullptr;
+    errno = 0;
+    const float value = std::strtof(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(value))
+        throw usage_error(option + " must be a finite number, got '" + text + "'");
+    return value;
+}
+
+long parse_integer_option(const std::string& option, const std::string& text, long low, long high) {
+    char* end = nullptr;
+    errno = 0;
+    const long value = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || value < low || value > high)
+        throw usage_error(option + " must be an integer in [" + std::to_string(low) + ", " + std::to_string(high) +
+                          "], got '" + text + "'");
+    return value;
+}
+
+/// The camera depth buffer: one HALF or FLOAT channel Z of the camera's size.
+std::vector<float> read_camera_depth(const std::string& path, const ScatterScene& scene) {
+    const io::ExrImage image = io::read_exr(path);
+    const io::ExrChannel* channel = image.find_channel("Z");
+    if (!channel || channel->type == io::SampleType::uint32)
+        throw input_error(path + ": no HALF or FLOAT channel Z (the camera's depth buffer)");
+    if (image.width != scene.camera.width || image.height != scene.camera.height)
+        throw input_error(path + ": the depth buffer is " + std::to_string(image.width) + "x" +
+                          std::to_string(image.height) + ", the scene's camera " + std::to_string(scene.camera.width) +
+                          "x" + std::to_string(scene.camera.height));
+    return channel->values;
+}
+
+/// Float moments (k per texel) as channels b1..bk of a width x height EXR.
+void write_moments_exr(const std::string& path, int width, int height, int moments, const std::vector<float>& values,
+                       const std::string& what) {
+    io::ExrImage image;
+    image.width = width;
+    image.height = height;
+    const std::size_t texels = static_cast<std::size_t>(width) * height;
+    for (int k = 0; k < moments; ++k) {
+        io::ExrChannel channel;
+        channel.name = "b" + std::to_string(k + 1);
+        channel.values.resize(texels);
+        for (std::size_t t = 0; t < texels; ++t) channel.values[t] = values[t * moments + k];
+        image.channels.push_back(std::move(channel));
+    }
+    image.attributes = {{"msmcl:scatterMap", what}, {"msmcl:scatterMoments", moments}};
+    io::write_exr(path, image);
+}
+
+} // namespace
+
+void add_scatter_command(CLI::App& app, ScatterArguments& a) {
+    CLI::App* command = app.add_subcommand(
+        "scatter", "Scene JSON + light depth map + camera depth buffer -> single-scattered radiance (EXR Y)");
+    command->add_option("scene", a.scene, "scene JSON (light, camera, medium, rectified map)")->required();
+    command->add_option("shadow_map", a.shadow_map, "light depth map EXR (Z or sample<N>.Z, the light's depth_range)")
+        ->required();
+    command->add_option("camera_depth", a.camera_depth, "camera depth buffer EXR (Z, the camera's convention)")->required();
+    command->add_option("output", a.output, "radiance EXR to write (channel Y)")->required();
+    command->add_option("--moments", a.moments, "4 or 6")->capture_default_str()->type_name("N");
+    command->add_flag("--no-filter", a.no_filter, "resample one depth sample per texel instead of a filtered moment sample");
+    command->add_option("--sigma", a.sigma, "Gaussian sigma (texels) of the moment map filtered resampling reads")
+        ->capture_default_str()
+        ->type_name("FLOAT");
+    command->add_option("--beta", a.beta, "bounds blend: adaptive, or B in [0,1] (0 lower bound, 1 upper bound)")
+        ->capture_default_str()
+        ->type_name("BETA");
+    command->add_option("--ray-march", a.ray_march, "ray march the shadow map with N samples instead (ground truth)")
+        ->type_name("N");
+    command->add_option("--jitter", a.jitter, "with --ray-march: per-pixel jitter seed (0 = midpoints)")
+        ->capture_default_str()
+        ->type_name("SEED");
+    command->add_option("--rectified", a.rectified, "also write the resampled rectified moments (EXR b1..bk)")
+        ->type_name("FILE");
+    command->add_option("--prefix-sums", a.prefix_sums, "also write the stored prefix sums, decoded (EXR b1..bk)")
+        ->type_name("FILE");
+    a.command = command;
+}
+
+void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
+    // Check the option values before touching any file.
+    ScatterOptions options;
+    options.moments = static_cast<int>(parse_integer_option("--moments", a.moments, 4, 6));
+    if (options.moments != 4 && options.moments != 6) throw usage_error("--moments must be 4 or 6, got '" + a.moments + "'");
+    options.filtered = !a.no_filter;
+    options.filter_sigma = parse_float_option("--sigma", a.sigma);
+    if (options.filter_sigma < 0) throw usage_error("--sigma must be >= 0, got '" + a.sigma + "'");
+    if (a.beta == "adaptive") {
+        options.beta = -1.0f;
+    } else {
+        options.beta = parse_float_option("--beta", a.beta);
+        if (options.beta < 0 || options.beta > 1) throw usage_error("--beta must be adaptive or in [0, 1], got '" + a.beta + "'");
+    }
+    const int ray_steps = a.ray_march.empty() ? 0 : static_cast<int>(parse_integer_option("--ray-march", a.ray_march, 1, 1 << 20));
+    const auto jitter = static_cast<std::uint32_t>(parse_integer_option("--jitter", a.jitter, 0, 0xffffffffL));
+    if (ray_steps > 0 && (!a.rectified.empty() || !a.prefix_sums.empty()))
+        throw usage_error("--rectified and --prefix-sums need the prefiltered method (no --ray-march)");
+
+    // Read and check the inputs.
+    const ScatterScene scene = load_scatter_scene(a.scene);
+    const DepthImage shadow_map = io::read_depth_exr(a.shadow_map, scene.light.depth_range);
+    const std::vector<float> camera_depth = read_camera_depth(a.camera_depth, scene);
+    try {
+        validate_scatter_inputs(scene, shadow_map, camera_depth);
+    } catch (const input_error& e) {
+        // read_depth_exr checked the shadow map already: what is left is the camera's.
+        throw input_error(a.camera_depth + ": " + e.what());
+    }
+
+    // Compute on the device.
+    Context context(global.selection());
+    std::vector<float> radiance;
+    std::string method;
+    if (ray_steps > 0) {
+        radiance = scatter_ray_march(context, scene, shadow_map, camera_depth, ray_steps, jitter);
+        method = "ray_march_" + std::to_string(ray_steps);
+    } else {
+        radiance = scatter(context, scene, shadow_map, camera_depth, options);
+        method = "prefiltered_" + std::to_string(options.moments) + (options.filtered ? "_filtered" : "_unfiltered");
+    }
+    if (!a.rectified.empty())
+        write_moments_exr(a.rectified, scene.rectified_width, scene.rectified_height, options.moments,
+                          scatter_rectified_moments(context, scene, shadow_map, options, false), "resampled");
+    if (!a.prefix_sums.empty()) {
+        const ScatterMap map = scatter_prefilter(context, scene, shadow_map, options);
+        write_moments_exr(a.prefix_sums, map.width, map.height, map.moments, decode_scatter_map(map), "prefix sums");
+    }
+
+    // The radiance per camera pixel.
+    io::ExrImage image;
+    image.width = scene.camera.width;
+    image.height = scene.camera.height;
+    image.channels = {{"Y", io::SampleType::float32, radiance, {}}};
+    image.attributes = {{"msmcl:scatterMethod", method}};
+    io::write_exr(a.output, image);
+}
+
+} // namespace msmcl::cli
