@@ -12,7 +12,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 
 # Build the CLI and the sample-data tools; generate the larger sample scenes (1024^2).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview
+cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-scatter-scene
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
 tools=$build/data
@@ -57,6 +57,23 @@ for entry in "${scenes[@]}"; do
   else
     "$tools/msmcl-preview" "$out/${name}_soft_shadow.exr" "$out/${name}_soft.png" --black 1 --white 0
   fi
+done
+
+# Single scattering: light shafts through the openings of two sample scenes, from the
+# prefiltered 4- and 6-moment maps, and 128-sample ray marching of the hard shadow map.
+for entry in hall:0.3 pergola:1.5; do
+  IFS=: read -r name white <<<"$entry"
+  "$tools/msmcl-scatter-scene" "$root/data/scatter/$name.json" --map-size 1024 --camera-width 640 --camera-height 480 \
+    --rectified-size 1024 --write-scene "$out/${name}_scene.json" --shadow-map "$out/${name}_shadow.exr" \
+    --camera-depth "$out/${name}_camera.exr"
+  for moments in 4 6; do
+    "$msmcl" scatter "$out/${name}_scene.json" "$out/${name}_shadow.exr" "$out/${name}_camera.exr" \
+      "$out/${name}_scatter${moments}.exr" --moments "$moments"
+    "$tools/msmcl-preview" "$out/${name}_scatter${moments}.exr" "$out/${name}_scatter${moments}.png" --white "$white"
+  done
+  "$msmcl" scatter "$out/${name}_scene.json" "$out/${name}_shadow.exr" "$out/${name}_camera.exr" \
+    "$out/${name}_marched128.exr" --ray-march 128
+  "$tools/msmcl-preview" "$out/${name}_marched128.exr" "$out/${name}_marched128.png" --white "$white"
 done
 
 echo "main job: textures, shadows and previews in $out"
