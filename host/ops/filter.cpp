@@ -4,7 +4,9 @@
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstddef>
 #include <sstream>
 #include <string>
@@ -21,6 +23,43 @@ constexpr std::size_t kFusedGroupSize = 256;
 constexpr int kFusedTileWidth = 32;
 constexpr int kFusedTileHeight = 24;
 constexpr unsigned long long kFusedLocalBytes = 4ull * (40 * 32 + 7) * sizeof(float);
+// The CPU distribution (kernels/filter_fused_cpu.cl): one work-item per input column of a
+// tile (width + 8 guard columns), the tile's rows streamed. Tuning parameters, measured
+// on PoCL 3.1 / AVX-512 (bench/): MSMCL_CPU_TILE="WxH" overrides them for other CPUs.
+constexpr int kCpuTileWidth = 128;
+constexpr int kCpuTileHeight = 64;
+constexpr int kCpuGuard = 4;
+
+struct CpuTiling {
+    int width = kCpuTileWidth;
+    int height = kCpuTileHeight;
+
+    // Work-items per group: one per input column (the tile and its guard band).
+    std::size_t group_size() const { return static_cast<std::size_t>(width + 2 * kCpuGuard); }
+    // Local memory of one work-group (CPU_FILTER_TILE): two resolved input rows (plus 8
+    // floats of padding), a ring of 9 horizontally blurred rows, one filtered row and the
+    // texel words, 4 planes each.
+    unsigned long long local_bytes() const {
+        const unsigned long long columns = static_cast<unsigned long long>(width) + 2 * kCpuGuard;
+        return 4ull * sizeof(float) * (2 * (columns + 2 * kCpuGuard) + 9 * columns + columns + columns);
+    }
+};
+
+// The default tiling, or MSMCL_CPU_TILE ("WxH", W in 8..1024, H in 1..1024) when set.
+CpuTiling cpu_tiling() {
+    CpuTiling tiling;
+    const char* text = std::getenv("MSMCL_CPU_TILE");
+    if (!text) return tiling;
+    int width = 0, height = 0;
+    char separator = 0;
+    std::istringstream in(text);
+    if (in >> width >> separator >> height && separator == 'x' && width >= 2 * kCpuGuard && width <= 1024 &&
+        height >= 1 && height <= 1024) {
+        tiling.width = width;
+        tiling.height = height;
+    }
+    return tiling;
+}
 
 std::string describe_size(int width, int height, int samples) {
     std::ostringstream text;
@@ -83,16 +122,35 @@ bool device_runs_fused(const DeviceInfo& device) {
     return device.max_work_group_size >= kFusedGroupSize && device.local_mem_bytes >= kFusedLocalBytes;
 }
 
-// automatic -> fused_paper where the device can run it, else three_pass.
+bool device_runs_fused_cpu(const DeviceInfo& device, const CpuTiling& tiling) {
+    return device.max_work_group_size >= tiling.group_size() &&
+           device.local_mem_bytes >= tiling.local_bytes();
+}
+
+std::string device_limits(const DeviceInfo& device) {
+    return std::to_string(device.max_work_group_size) + " and " + std::to_string(device.local_mem_bytes);
+}
+
+// automatic -> fused_cpu on CPU devices, fused_paper elsewhere, each where the device can
+// run it, else three_pass. An explicit choice is honoured or refused with device_error.
 FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
-    if (requested == FilterKernel::automatic)
-        return device_runs_fused(device) ? FilterKernel::fused_paper : FilterKernel::three_pass;
+    const CpuTiling tiling = cpu_tiling();
+    if (requested == FilterKernel::automatic) {
+        if (device.is_cpu && device_runs_fused_cpu(device, tiling)) return FilterKernel::fused_cpu;
+        if (device_runs_fused(device)) return FilterKernel::fused_paper;
+        return device_runs_fused_cpu(device, tiling) ? FilterKernel::fused_cpu : FilterKernel::three_pass;
+    }
     if (requested == FilterKernel::fused_paper && !device_runs_fused(device)) {
         throw device_error("filter: device '" + device.name + "' cannot run the fused kernel (needs " +
                            std::to_string(kFusedGroupSize) + " work-items per group and " +
                            std::to_string(kFusedLocalBytes) + " bytes of local memory; it has " +
-                           std::to_string(device.max_work_group_size) + " and " +
-                           std::to_string(device.local_mem_bytes) + ")");
+                           device_limits(device) + ")");
+    }
+    if (requested == FilterKernel::fused_cpu && !device_runs_fused_cpu(device, tiling)) {
+        throw device_error("filter: device '" + device.name + "' cannot run the CPU fused kernel (needs " +
+                           std::to_string(tiling.group_size()) + " work-items per group and " +
+                           std::to_string(tiling.local_bytes()) + " bytes of local memory; it has " +
+                           device_limits(device) + ")");
     }
     return requested;
 }
@@ -113,6 +171,67 @@ cl_ulong buffer_size(cl_mem buffer) {
     std::size_t bytes = 0;
     detail::check(clGetMemObjectInfo(buffer, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr), "clGetMemObjectInfo");
     return bytes;
+}
+
+// The CPU distribution (kernels/filter_fused_cpu.cl): interior tile columns (guard band
+// inside the image) and border tile columns as two launches; returns the event of the
+// last one, which waits for the first.
+cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& queue,
+                            const std::vector<cl::Event>& waits, const cl::Buffer& depth, int width, int height,
+                            const cl::Buffer& texture, const FilterOptions& options, int samples,
+                            const std::array<float, 9>& taps) {
+    const CpuTiling tiling = cpu_tiling();
+    std::vector<std::string> defines = kernel_defines(samples, options);
+    defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
+    defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));
+    // Tile grid; tile columns [ix0, ix1) read and write no column outside the image.
+    const int tiles_x = (width + tiling.width - 1) / tiling.width;
+    const int tiles_y = (height + tiling.height - 1) / tiling.height;
+    const int ix0 = 1; // the first tile column's guard band leaves the image
+    const int ix1 = std::max(ix0, (width - kCpuGuard) / tiling.width);
+    const std::size_t interior_columns = static_cast<std::size_t>(ix1 - ix0);
+    const std::size_t border_columns = static_cast<std::size_t>(tiles_x) - interior_columns;
+    const std::size_t group = tiling.group_size();
+
+    const auto prepare = [&](const char* name) -> cl::Kernel& {
+        cl::Kernel& kernel = impl.kernel("filter_fused_cpu.cl", defines, name);
+        const std::size_t kernel_limit = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device);
+        if (kernel_limit < group) {
+            throw device_error("filter: device '" + impl.info.name + "' runs " + name + " with at most " +
+                               std::to_string(kernel_limit) + " work-items per group, it needs " +
+                               std::to_string(group));
+        }
+        detail::set_arg(kernel, 0, depth);
+        detail::set_arg(kernel, 1, width);
+        detail::set_arg(kernel, 2, height);
+        detail::set_arg(kernel, 3, texture);
+        set_tap_arguments(kernel, 4, taps);
+        detail::set_arg(kernel, 9, ix0);
+        detail::set_arg(kernel, 10, ix1);
+        return kernel;
+    };
+
+    // One int of scratch per group: its current row (see CPU_FILTER_TILE in the kernel).
+    cl_int status = CL_SUCCESS;
+    cl::Buffer progress(impl.context, CL_MEM_READ_WRITE,
+                        sizeof(cl_int) * std::max(interior_columns, border_columns) * tiles_y, nullptr, &status);
+    detail::check(status, "clCreateBuffer(filter progress)");
+
+    std::vector<cl::Event> before = waits;
+    cl::Event last;
+    const auto launch = [&](const char* name, std::size_t columns) {
+        cl::Kernel& kernel = prepare(name);
+        detail::set_arg(kernel, 11, progress);
+        detail::set_arg(kernel, 12, 0); // `zero`: see CPU_X in the kernel
+        detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange,
+                                                 cl::NDRange(columns * group, static_cast<std::size_t>(tiles_y)),
+                                                 cl::NDRange(group, 1), &before, &last),
+                      (std::string("clEnqueueNDRangeKernel(") + name + ")").c_str());
+        before = {last};
+    };
+    if (interior_columns > 0) launch("filter_fused_cpu_interior", interior_columns);
+    if (border_columns > 0) launch("filter_fused_cpu_border", border_columns);
+    return last;
 }
 
 // Enqueues the whole filter on `queue`; returns the event of its last command.
@@ -148,6 +267,9 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
                       "clEnqueueNDRangeKernel(filter_fused_gpu)");
         return last;
     }
+
+    if (kernel_choice == FilterKernel::fused_cpu) return enqueue_fused_cpu(impl, queue, waits, depth, width, height,
+                                                                           texture, options, samples, taps);
 
     // Three passes through two float4 moment buffers.
     cl_int status = CL_SUCCESS;

@@ -16,6 +16,11 @@ enum class FilterKernel {
     automatic,   ///< the best one for the device
     fused_paper, ///< the paper's 40x32 local-memory kernel (256 work-items, GPU layout)
     three_pass,  ///< resolve -> global, horizontal blur -> global, vertical blur + quantize
+    fused_cpu,   ///< the same fused filter distributed for CPU devices: scalar code that the
+                 ///< OpenCL compiler vectorizes across work-items, one work-item per texel
+                 ///< column of a 128x64 tile whose rows are streamed; nlq formats shift per
+                 ///< tile (environment MSMCL_CPU_TILE="WxH" changes the tile). `automatic`
+                 ///< picks it on CPU devices, fused_paper on the others
 };
 
 struct FilterOptions {

@@ -1,0 +1,87 @@
+// msmcl-bench harness: registry, timing, statistics.
+#include "harness.hpp"
+
+#include <msmcl/errors.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+
+namespace msmcl::bench {
+
+namespace {
+
+std::vector<BenchCase>& registry() {
+    static std::vector<BenchCase> cases;
+    return cases;
+}
+
+} // namespace
+
+bool register_case(BenchCase bench_case) {
+    registry().push_back(std::move(bench_case));
+    return true;
+}
+
+std::vector<BenchCase> registered_cases() {
+    std::vector<BenchCase> cases = registry();
+    std::stable_sort(cases.begin(), cases.end(),
+                     [](const BenchCase& a, const BenchCase& b) { return a.order < b.order; });
+    return cases;
+}
+
+namespace {
+
+double process_cpu_ms() {
+    timespec now{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return now.tv_sec * 1e3 + now.tv_nsec * 1e-6;
+}
+
+} // namespace
+
+Timings time_runs(const std::function<void()>& run, int warmups, int reps) {
+    for (int i = 0; i < warmups; ++i) run();
+    Timings timings;
+    for (int i = 0; i < reps; ++i) {
+        const double cpu_start = process_cpu_ms();
+        const auto start = std::chrono::steady_clock::now();
+        run();
+        const auto stop = std::chrono::steady_clock::now();
+        timings.cpu_ms.push_back(process_cpu_ms() - cpu_start);
+        timings.wall_ms.push_back(std::chrono::duration<double, std::milli>(stop - start).count());
+    }
+    return timings;
+}
+
+double minimum(const std::vector<double>& values) {
+    return values.empty() ? 0.0 : *std::min_element(values.begin(), values.end());
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t half = values.size() / 2;
+    return values.size() % 2 ? values[half] : 0.5 * (values[half - 1] + values[half]);
+}
+
+double equal_share(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+    if (a.size() != b.size() || a.empty()) return 0.0;
+    std::size_t equal = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) equal += a[i] == b[i];
+    return double(equal) / double(a.size());
+}
+
+std::vector<std::uint32_t> read_texture(Context& context, cl_mem buffer, std::size_t bytes) {
+    std::vector<std::uint32_t> words(bytes / sizeof(std::uint32_t));
+    check_cl(clEnqueueReadBuffer(context.cl_queue_handle(), buffer, CL_TRUE, 0, bytes, words.data(), 0, nullptr,
+                                 nullptr),
+             "clEnqueueReadBuffer");
+    return words;
+}
+
+void check_cl(cl_int status, const char* call) {
+    if (status != CL_SUCCESS) throw opencl_error(status, call);
+}
+
+} // namespace msmcl::bench

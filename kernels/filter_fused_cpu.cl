@@ -1,0 +1,411 @@
+// The fused filter (resolve -> 9x9 Gaussian -> quantize, one global write) distributed
+// for CPU devices. PoCL turns the code between two barriers into a loop over the
+// work-items and vectorizes that loop (../shared/POCL-NOTES.md). This kernel is written
+// for that:
+//  - scalar code; work-item x works on texel column x, so consecutive work-items touch
+//    consecutive floats;
+//  - nothing but uniform values is used across a barrier, and no value is computed once
+//    and reused in a later phase (see CPU_X, CPU_BUFFER and the row counter);
+//  - no vector value anywhere, including none that PoCL's SLP vectorizer could form out
+//    of one work-item's code before it builds the loops (see CPU_END_BLOCK and the
+//    quantization phases);
+//  - math functions that vectorize (see below);
+//  - interior and border tile columns are separate kernels, only the border one clamps
+//    column indices; phases compute on every work-item and only stores are masked.
+// A work-group of CPU_IN_W = CPU_TILE_W + 8 work-items (one per input column: the tile
+// and its guard band) streams a CPU_TILE_W x CPU_TILE_H output tile one input row r at a
+// time. Per row:
+//   blur:     horizontal 9-tap of row r into slot r % 9 of a ring of the last 9 blurred
+//             rows; from the ninth row on also the vertical 9-tap over the ring (each
+//             work-item reads its own ring column only);
+//   resolve:  moments of the S samples of input texel (x0 - 4 + x, row r + 1), averaged,
+//             into the other of two row buffers (same phase as the blur);
+//   quantize: one phase per channel, then one that stores output row r - 8;
+//   a barrier after each phase, and one to advance the row.
+// Same math headers, taps and float operation order as filter_fused_gpu.cl and
+// filter_three_pass.cl: moments128 and msm64 equal them bit for bit; the nlq formats shift
+// the moments by the tile's centre depth c (SPEC section 3).
+// Compile-time: MSM_SAMPLES, MSM_FORMAT, MSM_DEPTH_ZERO_ONE as for filter_fused_gpu.cl;
+// CPU_TILE_W, CPU_TILE_H: tuning parameters (host/ops/filter.cpp).
+
+// Math functions for the quantizers of msm_formats.clh that vectorize across work-items
+// (in this kernel only). PoCL's floor() and ceil() are library code with branches:
+// clang's builtins become single instructions with the same IEEE results. PoCL's log() is
+// an out-of-line call and its exp() branchy: these are inline and branch-free (the
+// algorithms of FreeBSD's e_logf.c and e_expf.c), within 0.95 ulp of the exact result for
+// every float in [1e-3, 3e7] (log) and [-20, 20] (exp), checked exhaustively; Psi4 and its
+// inverse pass only arguments in [0.18, 2.5e6] (log) and [-1.8, 14.8] (exp).
+#define floor(x) __builtin_floorf(x)
+#define ceil(x) __builtin_ceilf(x)
+
+static inline float cpu_logf(float x) {
+    const float ln2_hi = 6.9313812256e-01f, ln2_lo = 9.0580006145e-06f;
+    const float lg1 = 0.66666662693f, lg2 = 0.40000972152f, lg3 = 0.28498786688f, lg4 = 0.24279078841f;
+    // x = 2^k (1 + f) with 1 + f in [sqrt(2)/2, sqrt(2)).
+    const uint bits = as_uint(x) + (0x3f800000u - 0x3f3504f3u);
+    const float k = (float)((int)(bits >> 23) - 0x7f);
+    const float f = as_float((bits & 0x007fffffu) + 0x3f3504f3u) - 1.0f;
+    // log(1 + f) = f - f^2/2 + s (f^2/2 + R(s^2)), s = f / (2 + f).
+    const float s = f / (2.0f + f), z = s * s, w = z * z;
+    const float r = z * (lg1 + w * lg3) + w * (lg2 + w * lg4);
+    const float half_f2 = 0.5f * f * f;
+    return s * (half_f2 + r) + k * ln2_lo - half_f2 + f + k * ln2_hi;
+}
+
+static inline float cpu_expf(float x) {
+    const float ln2_hi = 6.9314575195e-01f, ln2_lo = 1.4286067653e-06f, inv_ln2 = 1.4426950216e+00f;
+    const float p1 = 1.6666625440e-1f, p2 = -2.7667332906e-3f;
+    // x = k ln2 + r, |r| <= ln2 / 2.
+    const float k = __builtin_floorf(x * inv_ln2 + 0.5f);
+    const float hi = x - k * ln2_hi, lo = k * ln2_lo, r = hi - lo, r2 = r * r;
+    const float c = r - r2 * (p1 + r2 * p2);
+    const float y = 1.0f - ((lo - (r * c) / (2.0f - c)) - hi);
+    return y * as_float((uint)((int)k + 127) << 23); // times 2^k, |k| < 127
+}
+
+#define log(x) cpu_logf(x)
+#define exp(x) cpu_expf(x)
+#include "msm_formats.clh"
+
+// Algorithm 2 exactly as msm_nlq_from_shifted_moments (msm_moments.clh) computes it, the
+// same operations in the same order, written with a single return: the header's early
+// return of the single-depth case merges two 16-byte structs, which the x86-64 calling
+// convention passes as pairs of float2; that vector-typed merge stays after inlining and
+// stops the vectorization across work-items. (Delete this copy once the header's function
+// has a single return.) Tested against the same double reference as every kernel.
+static inline msm_nlq cpu_nlq_from_shifted_moments(msm_moments m, float c) {
+    MSM_NO_CONTRACT
+    const msm_moments b = msm_bias_towards(m, MSM_ALPHA_FLOAT, msm_float_bias_target_shifted(c));
+    float q2 = b.b2 - b.b1 * b.b1;
+    float q1 = b.b1 * b.b2 - b.b3;
+    float q0 = -b.b1 * q1 - b.b2 * q2;
+    float discriminant = q1 * q1 - 4.0f * q2 * q0;
+    const int single_depth = !(q2 > 0.0f) || !(discriminant > 0.0f);
+    float root_d = sqrt(discriminant);
+    float t = -0.5f * (q1 + (q1 >= 0.0f ? root_d : -root_d));
+    float root_a = t / q2;
+    float root_b = q0 / t;
+    float y1 = msm_minf(root_a, root_b);
+    float y2 = msm_maxf(root_a, root_b);
+    float l21 = -q1 / q2;
+    const float y = clamp(b.b1 + c, -1.0f, 1.0f);
+    msm_nlq n;
+    n.v2 = single_depth ? 0.5f : clamp((b.b1 - y1) / (y2 - y1), 0.0f, 1.0f);
+    n.xi4 = single_depth ? 0.0f : clamp(b.b4 - b.b2 * b.b2 - l21 * l21 * q2, 0.0f, MSM_XI4_MAX);
+    n.y1 = single_depth ? y : clamp(y1 + c, -1.0f, 1.0f);
+    n.y2 = single_depth ? y : clamp(y2 + c, -1.0f, 1.0f);
+    return n;
+}
+
+#define CPU_GUARD 4
+#define CPU_IN_W (CPU_TILE_W + 2 * CPU_GUARD)
+// A row buffer plane: the input columns plus 8 floats that the last work-items' 9-tap
+// windows read (they compute garbage there that nothing stores).
+#define CPU_ROW_PLANE (CPU_IN_W + 2 * CPU_GUARD)
+
+#if MSM_FORMAT == 2 || MSM_FORMAT == 3
+#define CPU_SHIFTED 1
+#else
+#define CPU_SHIFTED 0
+#endif
+
+// Origin of this group's output tile. Interior groups: tile column ix0 + group x; border
+// groups: the tile columns left of ix0, then those from ix1 on. Tile row = group y.
+static inline int tile_x0(int border, int ix0, int ix1) {
+    const int g = (int)get_group_id(0);
+    const int column = border ? (g < ix0 ? g : ix1 + (g - ix0)) : ix0 + g;
+    return column * CPU_TILE_W;
+}
+static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
+
+// The shift c: internal depth of sample 0 of the tile's centre texel (clamped into the
+// image); 0 for the unshifted formats. Read anew in every phase that needs it: the row r
+// in the coordinates keeps the compiler from computing them once for all phases, and
+// PoCL would keep the result per work-item (it takes values computed through min() for
+// ones that differ between work-items); see CPU_X.
+static inline float tile_shift(__global const float* depth, int width, int height, int x0, int y0, int zero,
+                               int r) {
+#if CPU_SHIFTED
+    const int cx = min(x0 + CPU_TILE_W / 2 + r * zero, width - 1);
+    const int cy = min(y0 + CPU_TILE_H / 2 + r * zero, height - 1);
+    const size_t texel = (size_t)cy * width + cx;
+    return msm_internal_depth(depth[texel * MSM_SAMPLES], MSM_DEPTH_ZERO_ONE);
+#else
+    return 0.0f;
+#endif
+}
+
+// Rows alternate between two buffers of `size` floats.
+#define CPU_BUFFER(r, size) ((size_t)((r) % 2) * (size))
+
+// The local id as every phase of row r uses it: plus r * zero, where `zero` is a kernel
+// argument that is always 0. Without the row in it, the compiler hoists id-derived
+// indices (x * S, x + const) out of the row loop; PoCL then keeps them per work-item
+// across the barriers and every access through them becomes a gather (POCL-NOTES 2).
+// Constant and uniform offsets go into base pointers, never into an integer sum with the
+// id (the compiler would regroup that sum and hoist the id part again).
+#define CPU_X(r) ((size_t)get_local_id(0) + (size_t)((r) * zero))
+
+// Ends a basic block with a store that never happens. PoCL optimizes each work-item's
+// code before it builds the loops over the work-items, and its SLP vectorizer, which
+// works within one basic block, would fuse independent, identical computations of one
+// work-item (the samples of a texel, the moment planes, the channels of a code) into
+// vectors; any vector value stops the vectorization across work-items (POCL-NOTES 1).
+// The condition tests a value just computed (`bits`: a code below 0xffff0000, the upper
+// half of one with a zero low half, or a finite float's bits) against a pattern it cannot
+// have, distinct per `tag` (1 to 0xffff), through `zero` (else the compiler would see
+// from the code's known bits that it is false): the compiler can neither prove it false
+// nor merge two such branches. The store goes into the texture where nothing overwrites
+// it later, so it is not removed as dead either; its index is the phase's own x (CPU_X),
+// not a bare local id, which the compiler would compute once for all phases.
+#define CPU_END_BLOCK(tag, bits) \
+    if (((bits) ^ (uint)zero) == 0xffff0000u + (uint)(tag)) texture[x] = (bits)
+
+// Phase "resolve" of input row r: work-item x averages the moments of (z - shift) of the
+// S samples of input texel (x0 - 4 + x, clamped row) into buffer r % 2 of `resolved`, in
+// the order of the other kernels' resolve_texel (sum from sample 0 up, times 1/S).
+static inline void resolve_row(__global const float* depth, int width, int height, __global uint* texture,
+                               int border, int ix0, int ix1, int zero, int r, __local float* resolved) {
+    const size_t x = CPU_X(r);
+    const int x0 = tile_x0(border, ix0, ix1);
+    const int y0 = tile_y0();
+    const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
+    CPU_END_BLOCK(400, as_uint(shift)); // else the SLP vectorizer pairs it with sample 0
+    const size_t row = (size_t)clamp(y0 - CPU_GUARD + r, 0, height - 1) * width;
+    __global const float* samples;
+    if (border) {
+        samples = depth + (row + (size_t)clamp(x0 - CPU_GUARD + (int)x, 0, width - 1)) * MSM_SAMPLES;
+    } else {
+        samples = depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
+        samples += x * MSM_SAMPLES;
+    }
+    msm_moments sum = msm_moments_of(msm_internal_depth(samples[0], MSM_DEPTH_ZERO_ONE) - shift);
+#pragma unroll
+    for (int s = 1; s < MSM_SAMPLES; ++s) {
+        CPU_END_BLOCK(s, as_uint(sum.b1));
+        sum = msm_moments_add(sum, msm_moments_of(msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE) - shift));
+    }
+    const msm_moments m = msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
+    __local float* out = resolved + CPU_BUFFER(r, 4 * CPU_ROW_PLANE);
+    out[x] = m.b1;
+    (out + CPU_ROW_PLANE)[x] = m.b2;
+    (out + 2 * CPU_ROW_PLANE)[x] = m.b3;
+    (out + 3 * CPU_ROW_PLANE)[x] = m.b4;
+}
+
+// 9-tap sum of v(0..8) with weights w4 w3 w2 w1 w0 w1 w2 w3 w4, the first tap innermost
+// (the order of the other kernels).
+#define CPU_TAPS9(v)                                                                          \
+    fma(w4, v(8), fma(w3, v(7), fma(w2, v(6), fma(w1, v(5),                                   \
+    fma(w0, v(4), fma(w1, v(3), fma(w2, v(2), fma(w3, v(1), w4 * v(0)))))))))
+
+#define CPU_AT_H(i) in[(i)]
+// Ring row i (0 = oldest, input row r - 8) of moment plane j.
+#define CPU_AT_V(i) (ring + (size_t)((r + 1 + (i)) % 9) * 4 * CPU_IN_W + j * CPU_IN_W)[x]
+
+// Phase "blur", first half: horizontal 9-tap of input row r into ring slot r % 9.
+static inline void blur_row(__global uint* texture, float w0, float w1, float w2, float w3, float w4, int zero,
+                            int r, __local const float* resolved, __local float* ring) {
+    const size_t x = CPU_X(r);
+    __local const float* row_in = resolved + CPU_BUFFER(r, 4 * CPU_ROW_PLANE);
+    __local float* slot = ring + (size_t)(r % 9) * 4 * CPU_IN_W;
+#pragma unroll
+    for (int j = 0; j < 4; ++j) {
+        __local const float* in = row_in + j * CPU_ROW_PLANE;
+        in += x;
+        const float h = CPU_TAPS9(CPU_AT_H);
+        (slot + j * CPU_IN_W)[x] = h;
+        CPU_END_BLOCK(100 + j, as_uint(h));
+    }
+}
+
+// Phase "blur", second half (r >= 8): vertical 9-tap over the ring, rows r-8 .. r, into
+// the planes of `filtered` (each work-item its own column).
+static inline void blur_column(__global uint* texture, float w0, float w1, float w2, float w3, float w4, int zero,
+                               int r, __local const float* ring, __local float* filtered) {
+    const size_t x = CPU_X(r);
+#pragma unroll
+    for (int j = 0; j < 4; ++j) {
+        const float b = CPU_TAPS9(CPU_AT_V);
+        (filtered + j * CPU_IN_W)[x] = b;
+        CPU_END_BLOCK(300 + j, as_uint(b));
+    }
+}
+
+// Quantization: one phase per channel and a barrier between phases. Within one phase
+// there is a single chain of work per work-item (the compiler drops the other channels of
+// each encoder call), so the SLP vectorizer finds nothing to fuse, and no code moves
+// across a barrier (POCL-NOTES 1). The texel's words collect in the `words` planes and
+// the last phase stores them (adjacent stores of values loaded from different planes:
+// not worth fusing for the SLP vectorizer, and a contiguous, interleaved store once
+// vectorized across work-items). The nlq representation (y1, y2, v2, xi4) replaces the
+// moments in `filtered`.
+#if MSM_FORMAT == 0
+#define CPU_QUANTIZE_PHASES 1
+#define CPU_WORDS 4
+#elif MSM_FORMAT == 1
+#define CPU_QUANTIZE_PHASES 5
+#define CPU_WORDS 2
+#elif MSM_FORMAT == 2
+#define CPU_QUANTIZE_PHASES 6
+#define CPU_WORDS 2
+#else
+#define CPU_QUANTIZE_PHASES 4
+#define CPU_WORDS 1
+#endif
+
+// The moments (or nlq values) work-item x left in `filtered`.
+#define CPU_LOAD4(a, b, c, d)                                                                 \
+    a = filtered[x];                                                                          \
+    b = (filtered + CPU_IN_W)[x];                                                             \
+    c = (filtered + 2 * CPU_IN_W)[x];                                                         \
+    d = (filtered + 3 * CPU_IN_W)[x]
+
+// Flattened: every call inside is inlined (the compiler would keep the encoders, called
+// from several phases, out of line, and a call stops the vectorization).
+// The buffers are `restrict` and the row is read here: then the compiler knows that the
+// phase's stores leave the row counter alone and reads it once, not once per work-item.
+static inline __attribute__((always_inline, flatten)) void quantize_phase(int phase, __global const float* depth, int width, int height,
+                                  __global uint* texture, int border, int ix0, int ix1, int zero,
+                                  __global const int* row, __local float* restrict filtered,
+                                  __local uint* restrict words) {
+    const int r = *row;
+    const size_t x = CPU_X(r);
+    const int x0 = tile_x0(border, ix0, ix1);
+    const int y0 = tile_y0();
+    __local uint* word0 = words;
+    __local uint* word1 = words + CPU_IN_W;
+#if MSM_FORMAT == 0
+    __local const uint* bits = (__local const uint*)filtered; // the moments' bits are the words
+#else
+    __local const uint* bits = words;
+#endif
+    if (phase == CPU_QUANTIZE_PHASES - 1) {
+        // Store the texel: inside the tile and the image only.
+        if (x < CPU_TILE_W && (!border || x0 + (int)x < width)) {
+            __global uint* out = texture + ((size_t)(y0 + r - 2 * CPU_GUARD) * width + x0) * CPU_WORDS;
+#if MSM_FORMAT == 1 || MSM_FORMAT == 2
+            // Both words as one 64-bit store (a contiguous masked store once vectorized,
+            // where two 32-bit stores became a scatter).
+            const uint low = word0[x] | (words + 2 * CPU_IN_W)[x];
+            const uint high = word1[x] | (words + 3 * CPU_IN_W)[x];
+            ((__global ulong*)out)[x] = (ulong)low | ((ulong)high << 32);
+#else
+            out += CPU_WORDS * x;
+#pragma unroll
+            for (int k = 0; k < CPU_WORDS; ++k) out[k] = (bits + k * CPU_IN_W)[x];
+#endif
+        }
+        return;
+    }
+#if MSM_FORMAT == 1 || MSM_FORMAT == 2
+#if MSM_FORMAT == 1
+    msm_moments m;
+    CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
+#define CPU_ENCODE msm_encode_msm64(m)
+#else
+    if (phase == 0) {
+        // Algorithm 2 (with the tile's shift), in place.
+        msm_moments m;
+        CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
+        const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
+        CPU_END_BLOCK(401, as_uint(shift));
+        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift);
+        filtered[x] = n.y1;
+        (filtered + CPU_IN_W)[x] = n.y2;
+        (filtered + 2 * CPU_IN_W)[x] = n.v2;
+        (filtered + 3 * CPU_IN_W)[x] = n.xi4;
+        return;
+    }
+    --phase;
+    msm_nlq n;
+    CPU_LOAD4(n.y1, n.y2, n.v2, n.xi4);
+#define CPU_ENCODE msm_encode_nlq64(n)
+#endif
+    if (phase == 0) word0[x] = CPU_ENCODE.w0 & 0xffffu;
+    if (phase == 1) (words + 2 * CPU_IN_W)[x] = CPU_ENCODE.w0 & 0xffff0000u;
+    if (phase == 2) word1[x] = CPU_ENCODE.w1 & 0xffffu;
+    if (phase == 3) (words + 3 * CPU_IN_W)[x] = CPU_ENCODE.w1 & 0xffff0000u;
+#undef CPU_ENCODE
+#elif MSM_FORMAT == 3
+    if (phase == 0) {
+        msm_moments m;
+        CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
+        const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
+        CPU_END_BLOCK(401, as_uint(shift));
+        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift);
+        filtered[x] = n.y1;
+        (filtered + CPU_IN_W)[x] = n.y2;
+        (filtered + 2 * CPU_IN_W)[x] = n.v2;
+        (filtered + 3 * CPU_IN_W)[x] = n.xi4;
+        return;
+    }
+    msm_nlq n;
+    CPU_LOAD4(n.y1, n.y2, n.v2, n.xi4);
+    if (phase == 1) word0[x] = msm_encode_nlq32(n) & 0x1fc0u;              // sqrt(v2)
+    if (phase == 2) word0[x] |= msm_encode_nlq32(n) & 0xffffe03fu;         // folded depths, Psi4
+#endif
+}
+
+#define CPU_KERNEL_ARGS                                                                                   \
+    __global const float *restrict depth, int width, int height, __global uint *restrict texture, float w0, \
+        float w1, float w2, float w3, float w4, int ix0, int ix1, __global int *progress, int zero
+
+// One quantization phase and its barrier (the phase is a constant at each use).
+#define CPU_QUANTIZE(PHASE, BORDER)                                                                       \
+    if ((PHASE) < CPU_QUANTIZE_PHASES) {                                                                  \
+        quantize_phase((PHASE), depth, width, height, texture, BORDER, ix0, ix1, zero, row, filtered,    \
+                       words);                                                                            \
+        barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
+    }
+
+// Both kernels. The current row lives in global memory (progress[group], scratch the host
+// provides) and every phase reads it anew: a loop counter would be kept per work-item by
+// PoCL (it does not see that it is uniform), a __local one the compiler forwards from
+// store to load into a per-work-item copy, and every address computed from such a copy
+// becomes a gather. Rows 0..7 only fill the ring; each later row writes one output row,
+// as many as the tile has inside the image. Per row: blur row r (and the vertical blur),
+// resolve row r + 1 | the quantization phases | advance the row.
+#define CPU_FILTER_TILE(BORDER)                                                                           \
+    __local float resolved[2 * 4 * CPU_ROW_PLANE];                                                        \
+    __local float ring[9 * 4 * CPU_IN_W];                                                                 \
+    __local float filtered[4 * CPU_IN_W];                                                                 \
+    __local uint words[4 * CPU_IN_W];                                                                     \
+    __global int* row = progress + get_group_id(1) * get_num_groups(0) + get_group_id(0);               \
+    if (get_local_id(0) == 0) *row = 0;                                                                   \
+    barrier(CLK_GLOBAL_MEM_FENCE);                                                                        \
+    resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row, resolved);                  \
+    barrier(CLK_LOCAL_MEM_FENCE);                                                                         \
+    for (int fill = 2 * CPU_GUARD; fill > 0; --fill) {                                                    \
+        blur_row(texture, w0, w1, w2, w3, w4, zero, *row, resolved, ring);                               \
+        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved);          \
+        barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
+        if (get_local_id(0) == 0) *row += 1;                                                              \
+        barrier(CLK_GLOBAL_MEM_FENCE);                                                                    \
+    }                                                                                                     \
+    for (int rows_out = min(CPU_TILE_H, height - tile_y0()); rows_out > 0; --rows_out) {                  \
+        blur_row(texture, w0, w1, w2, w3, w4, zero, *row, resolved, ring);                               \
+        blur_column(texture, w0, w1, w2, w3, w4, zero, *row, ring, filtered);                            \
+        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved);          \
+        barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
+        CPU_QUANTIZE(0, BORDER)                                                                           \
+        CPU_QUANTIZE(1, BORDER)                                                                           \
+        CPU_QUANTIZE(2, BORDER)                                                                           \
+        CPU_QUANTIZE(3, BORDER)                                                                           \
+        CPU_QUANTIZE(4, BORDER)                                                                           \
+        CPU_QUANTIZE(5, BORDER)                                                                           \
+        if (get_local_id(0) == 0) *row += 1;                                                              \
+        barrier(CLK_GLOBAL_MEM_FENCE);                                                                    \
+    }
+
+// Tile columns ix0 .. ix1-1 (input columns and outputs inside the image), every tile row.
+__kernel __attribute__((reqd_work_group_size(CPU_IN_W, 1, 1)))
+void filter_fused_cpu_interior(CPU_KERNEL_ARGS) {
+    CPU_FILTER_TILE(0)
+}
+
+// Tile columns left of ix0 and from ix1 on, every tile row.
+__kernel __attribute__((reqd_work_group_size(CPU_IN_W, 1, 1)))
+void filter_fused_cpu_border(CPU_KERNEL_ARGS) {
+    CPU_FILTER_TILE(1)
+}
