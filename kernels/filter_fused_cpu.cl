@@ -25,8 +25,8 @@
 // Same math headers, taps and float operation order as filter_fused_gpu.cl and
 // filter_three_pass.cl: moments128 and msm64 equal them bit for bit; the nlq formats shift
 // the moments by the tile's centre depth c (SPEC section 3).
-// Compile-time: MSM_SAMPLES, MSM_FORMAT, MSM_DEPTH_ZERO_ONE as for filter_fused_gpu.cl;
-// CPU_TILE_W, CPU_TILE_H: tuning parameters (host/ops/filter.cpp).
+// Compile-time: MSM_SAMPLES, MSM_FORMAT, MSM_DEPTH_ZERO_ONE, MSM_LAYERS as for
+// filter_fused_gpu.cl; CPU_TILE_W, CPU_TILE_H: tuning parameters (host/ops/filter.cpp).
 
 // Math functions for the quantizers of msm_formats.clh that vectorize across work-items
 // (in this kernel only). PoCL's floor() and ceil() are library code with branches:
@@ -66,6 +66,21 @@ static inline float cpu_expf(float x) {
 #define log(x) cpu_logf(x)
 #define exp(x) cpu_expf(x)
 #include "msm_formats.clh"
+#include "msm_translucent.clh"
+
+// Translucent layers (MSM_LAYERS > 0, SPEC section 7): the resolve composites each sample's
+// surfaces (msm_translucent.clh) instead of taking b(z), and the kernels take the layers'
+// depths and opacities as two more arguments; 0 compiles the opaque code alone.
+#ifndef MSM_LAYERS
+#define MSM_LAYERS 0
+#endif
+#if MSM_LAYERS
+#define CPU_LAYER_PARAMS , __global const float *restrict layer_depth, __global const float *restrict layer_opacity
+#define CPU_LAYER_ARGS , layer_depth, layer_opacity
+#else
+#define CPU_LAYER_PARAMS
+#define CPU_LAYER_ARGS
+#endif
 
 // Algorithm 2 exactly as msm_nlq_from_shifted_moments (msm_moments.clh) computes it, the
 // same operations in the same order, written with a single return: the header's early
@@ -161,11 +176,58 @@ static inline float tile_shift(__global const float* depth, int width, int heigh
 #define CPU_END_BLOCK(tag, bits) \
     if (((bits) ^ (uint)zero) == 0xffff0000u + (uint)(tag)) texture[x] = (bits)
 
+#if MSM_LAYERS
+// Sample s of a texel with its translucent layers: msm_translucent_sample and
+// msm_translucent_moments (msm_translucent.clh) with the same operations in the same
+// order, and CPU_END_BLOCK between the layers and between the surfaces (the SLP vectorizer
+// would pack the layers' identical computations into vectors). Tested against the same
+// double reference as every kernel, and bit for bit against the other kernels.
+static inline __attribute__((always_inline)) msm_moments
+cpu_translucent_sample(__global const float* samples, __global const float* layer_z, __global const float* layer_a,
+                       size_t layer_stride, int s, float shift, __global uint* texture, size_t x, int zero) {
+    MSM_NO_CONTRACT
+    float z[MSM_LAYERS], a[MSM_LAYERS];
+#pragma unroll
+    for (int k = 0; k < MSM_LAYERS; ++k) {
+        z[k] = msm_internal_depth((layer_z + k * layer_stride)[s], MSM_DEPTH_ZERO_ONE);
+        a[k] = msm_layer_opacity((layer_a + k * layer_stride)[s]);
+        CPU_END_BLOCK(500 + k, as_uint(z[k]));
+    }
+    const float opaque_z = msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE);
+    msm_moments sum;
+    sum.b1 = 0.0f;
+    sum.b2 = 0.0f;
+    sum.b3 = 0.0f;
+    sum.b4 = 0.0f;
+    float total = 0.0f;
+#pragma unroll
+    for (int i = 0; i < MSM_LAYERS; ++i) {
+        float transmitted = z[i] <= opaque_z ? 1.0f : 0.0f;
+#pragma unroll
+        for (int j = 0; j < MSM_LAYERS; ++j) {
+            const int in_front = z[j] < z[i] || (z[j] == z[i] && j < i);
+            transmitted *= in_front ? 1.0f - a[j] : 1.0f;
+        }
+        const float weight = transmitted * a[i];
+        sum = msm_moments_add(sum, msm_moments_scale(msm_moments_of(z[i] - shift), weight));
+        total += weight;
+        CPU_END_BLOCK(600 + i, as_uint(sum.b1));
+    }
+    float transmitted = 1.0f;
+#pragma unroll
+    for (int j = 0; j < MSM_LAYERS; ++j) transmitted *= z[j] <= opaque_z ? 1.0f - a[j] : 1.0f;
+    sum = msm_moments_add(sum, msm_moments_scale(msm_moments_of(opaque_z - shift), transmitted));
+    total += transmitted;
+    return msm_moments_scale(sum, 1.0f / total);
+}
+#endif
+
 // Phase "resolve" of input row r: work-item x averages the moments of (z - shift) of the
 // S samples of input texel (x0 - 4 + x, clamped row) into buffer r % 2 of `resolved`, in
 // the order of the other kernels' resolve_texel (sum from sample 0 up, times 1/S).
 static inline void resolve_row(__global const float* depth, int width, int height, __global uint* texture,
-                               int border, int ix0, int ix1, int zero, int r, __local float* resolved) {
+                               int border, int ix0, int ix1, int zero, int r, __local float* resolved
+                               CPU_LAYER_PARAMS) {
     const size_t x = CPU_X(r);
     const int x0 = tile_x0(border, ix0, ix1);
     const int y0 = tile_y0();
@@ -179,12 +241,37 @@ static inline void resolve_row(__global const float* depth, int width, int heigh
         samples = depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
         samples += x * MSM_SAMPLES;
     }
+#if MSM_LAYERS
+    // The same texel of layer 0 (layer k lies k * layer_stride floats further), addressed
+    // like the depth samples.
+    const size_t layer_stride = (size_t)width * height * MSM_SAMPLES;
+    __global const float* layer_z;
+    __global const float* layer_a;
+    if (border) {
+        const size_t at = (row + (size_t)clamp(x0 - CPU_GUARD + (int)x, 0, width - 1)) * MSM_SAMPLES;
+        layer_z = layer_depth + at;
+        layer_a = layer_opacity + at;
+    } else {
+        layer_z = layer_depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
+        layer_z += x * MSM_SAMPLES;
+        layer_a = layer_opacity + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
+        layer_a += x * MSM_SAMPLES;
+    }
+    msm_moments sum = cpu_translucent_sample(samples, layer_z, layer_a, layer_stride, 0, shift, texture, x, zero);
+#pragma unroll
+    for (int s = 1; s < MSM_SAMPLES; ++s) {
+        CPU_END_BLOCK(s, as_uint(sum.b1));
+        sum = msm_moments_add(sum, cpu_translucent_sample(samples, layer_z, layer_a, layer_stride, s, shift, texture,
+                                                          x, zero));
+    }
+#else
     msm_moments sum = msm_moments_of(msm_internal_depth(samples[0], MSM_DEPTH_ZERO_ONE) - shift);
 #pragma unroll
     for (int s = 1; s < MSM_SAMPLES; ++s) {
         CPU_END_BLOCK(s, as_uint(sum.b1));
         sum = msm_moments_add(sum, msm_moments_of(msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE) - shift));
     }
+#endif
     const msm_moments m = msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
     __local float* out = resolved + CPU_BUFFER(r, 4 * CPU_ROW_PLANE);
     out[x] = m.b1;
@@ -349,7 +436,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
 
 #define CPU_KERNEL_ARGS                                                                                   \
     __global const float *restrict depth, int width, int height, __global uint *restrict texture, float w0, \
-        float w1, float w2, float w3, float w4, int ix0, int ix1, __global int *progress, int zero
+        float w1, float w2, float w3, float w4, int ix0, int ix1, __global int *progress, int zero CPU_LAYER_PARAMS
 
 // One quantization phase and its barrier (the phase is a constant at each use).
 #define CPU_QUANTIZE(PHASE, BORDER)                                                                       \
@@ -374,11 +461,11 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     __global int* row = progress + get_group_id(1) * get_num_groups(0) + get_group_id(0);               \
     if (get_local_id(0) == 0) *row = 0;                                                                   \
     barrier(CLK_GLOBAL_MEM_FENCE);                                                                        \
-    resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row, resolved);                  \
+    resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row, resolved CPU_LAYER_ARGS);                  \
     barrier(CLK_LOCAL_MEM_FENCE);                                                                         \
     for (int fill = 2 * CPU_GUARD; fill > 0; --fill) {                                                    \
         blur_row(texture, w0, w1, w2, w3, w4, zero, *row, resolved, ring);                               \
-        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved);          \
+        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved CPU_LAYER_ARGS);          \
         barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
         if (get_local_id(0) == 0) *row += 1;                                                              \
         barrier(CLK_GLOBAL_MEM_FENCE);                                                                    \
@@ -386,7 +473,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     for (int rows_out = min(CPU_TILE_H, height - tile_y0()); rows_out > 0; --rows_out) {                  \
         blur_row(texture, w0, w1, w2, w3, w4, zero, *row, resolved, ring);                               \
         blur_column(texture, w0, w1, w2, w3, w4, zero, *row, ring, filtered);                            \
-        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved);          \
+        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved CPU_LAYER_ARGS);          \
         barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
         CPU_QUANTIZE(0, BORDER)                                                                           \
         CPU_QUANTIZE(1, BORDER)                                                                           \

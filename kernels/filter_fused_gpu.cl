@@ -5,11 +5,19 @@
 // Layout and work-item mapping: fused_layout.clh (verified bank-conflict free offline by
 // tests/fused_layout_test.cpp).
 // Compile-time: MSM_SAMPLES (1, 2, 4, 8, 16), MSM_FORMAT (0 moments128, 1 msm64, 2 nlq64,
-// 3 nlq32; the order of msmcl::Format), MSM_DEPTH_ZERO_ONE (1 for depth in [0,1]).
+// 3 nlq32; the order of msmcl::Format), MSM_DEPTH_ZERO_ONE (1 for depth in [0,1]),
+// MSM_LAYERS (translucent layers, 0 = opaque; two more arguments when > 0).
 // Taps: w0 (centre) .. w4, as gaussian_taps() gives them; sums run over i = -4..4 with fma
 // so that kernels/filter_three_pass.cl reproduces them bit for bit.
 #include "msm_formats.clh"
+#include "msm_translucent.clh"
 #include "fused_layout.clh"
+
+// Translucent layers (MSM_LAYERS > 0, SPEC section 7): the resolve composites each sample's
+// surfaces (msm_translucent.clh) instead of taking b(z); 0 compiles the opaque code alone.
+#ifndef MSM_LAYERS
+#define MSM_LAYERS 0
+#endif
 
 #if MSM_FORMAT == 2 || MSM_FORMAT == 3
 // nlq formats: blur the moments of (z - c), c = the block's centre depth (SPEC section 3).
@@ -27,6 +35,23 @@ static inline msm_moments resolve_texel(__global const float* depth, size_t texe
     return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
 }
 
+#if MSM_LAYERS
+// The same with the texel's translucent layers: layer k of texel t, sample s at
+// [(k * width * height + t) * MSM_SAMPLES + s].
+static inline msm_moments resolve_translucent_texel(__global const float* depth, __global const float* layer_depth,
+                                                    __global const float* layer_opacity, size_t layer_stride,
+                                                    size_t texel, float shift) {
+    __global const float* first = depth + texel * MSM_SAMPLES;
+    __global const float* first_z = layer_depth + texel * MSM_SAMPLES;
+    __global const float* first_a = layer_opacity + texel * MSM_SAMPLES;
+    msm_moments sum = msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, 0, MSM_DEPTH_ZERO_ONE, shift);
+    for (int s = 1; s < MSM_SAMPLES; ++s)
+        sum = msm_moments_add(sum, msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, s,
+                                                          MSM_DEPTH_ZERO_ONE, shift));
+    return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
+}
+#endif
+
 // 9-tap sum of v[0..8] with weights w4 w3 w2 w1 w0 w1 w2 w3 w4, in order i = -4..4.
 #define FILTER_TAPS9(v, k)                                                                    \
     fma(w4, v[(k) + 8], fma(w3, v[(k) + 7], fma(w2, v[(k) + 6], fma(w1, v[(k) + 5],           \
@@ -35,7 +60,11 @@ static inline msm_moments resolve_texel(__global const float* depth, size_t texe
 
 __kernel __attribute__((reqd_work_group_size(FUSED_GROUP_SIZE, 1, 1)))
 void filter_fused_gpu(__global const float* depth, int width, int height, __global uint* texture,
-                      float w0, float w1, float w2, float w3, float w4) {
+                      float w0, float w1, float w2, float w3, float w4
+#if MSM_LAYERS
+                      , __global const float* layer_depth, __global const float* layer_opacity
+#endif
+) {
     __local float block[FUSED_LOCAL_FLOATS];
     const uint id = (uint)get_local_id(0);
     const int out_x0 = (int)get_group_id(0) * FUSED_OUT_W;
@@ -57,7 +86,12 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
         const uint y = fused_resolve_y(id);
         const int gx = clamp(out_x0 - FUSED_GUARD + (int)x, 0, width - 1);
         const int gy = clamp(out_y0 - FUSED_GUARD + (int)y, 0, height - 1);
+#if MSM_LAYERS
+        const msm_moments m = resolve_translucent_texel(depth, layer_depth, layer_opacity,
+                                                        (size_t)width * height * MSM_SAMPLES, (size_t)gy * width + gx, shift);
+#else
         const msm_moments m = resolve_texel(depth, (size_t)gy * width + gx, shift);
+#endif
         block[fused_local_index(1, x, y)] = m.b1;
         block[fused_local_index(2, x, y)] = m.b2;
         block[fused_local_index(3, x, y)] = m.b3;

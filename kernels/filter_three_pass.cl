@@ -1,9 +1,16 @@
 // The baseline the paper compares against (Peters 2017, section 4): three passes through
 // global memory. (a) resolve -> float4 moments, (b) horizontal 9-tap -> float4 moments,
 // (c) vertical 9-tap + bias + quantize -> texture. Unshifted moments (c = 0).
-// Same compile-time defines, taps and float operations as filter_fused_gpu.cl, so
-// moments128 and msm64 agree with it bit for bit.
+// Same compile-time defines (MSM_LAYERS included), taps and float operations as
+// filter_fused_gpu.cl, so moments128 and msm64 agree with it bit for bit.
 #include "msm_formats.clh"
+#include "msm_translucent.clh"
+
+// Translucent layers (MSM_LAYERS > 0, SPEC section 7): the resolve composites each sample's
+// surfaces (msm_translucent.clh) instead of taking b(z); 0 compiles the opaque code alone.
+#ifndef MSM_LAYERS
+#define MSM_LAYERS 0
+#endif
 
 // Moments of z averaged over the samples of texel `texel` (as in filter_fused_gpu.cl, c = 0).
 static inline msm_moments resolve_texel(__global const float* depth, size_t texel) {
@@ -32,13 +39,39 @@ static inline void store_moments(__global float* moments, size_t texel, msm_mome
     vstore4((float4)(m.b1, m.b2, m.b3, m.b4), texel, moments);
 }
 
+#if MSM_LAYERS
+// The same with the texel's translucent layers: layer k of texel t, sample s at
+// [(k * width * height + t) * MSM_SAMPLES + s].
+static inline msm_moments resolve_translucent_texel(__global const float* depth, __global const float* layer_depth,
+                                                    __global const float* layer_opacity, size_t layer_stride,
+                                                    size_t texel) {
+    __global const float* first = depth + texel * MSM_SAMPLES;
+    __global const float* first_z = layer_depth + texel * MSM_SAMPLES;
+    __global const float* first_a = layer_opacity + texel * MSM_SAMPLES;
+    msm_moments sum = msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, 0, MSM_DEPTH_ZERO_ONE, 0.0f);
+    for (int s = 1; s < MSM_SAMPLES; ++s)
+        sum = msm_moments_add(sum, msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, s,
+                                                          MSM_DEPTH_ZERO_ONE, 0.0f));
+    return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
+}
+#endif
+
 // (a) One texel per work-item: resolve its samples.
-__kernel void filter_resolve(__global const float* depth, int width, int height, __global float* moments) {
+__kernel void filter_resolve(__global const float* depth, int width, int height, __global float* moments
+#if MSM_LAYERS
+                             , __global const float* layer_depth, __global const float* layer_opacity
+#endif
+) {
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
     if (x >= width || y >= height) return;
     const size_t texel = (size_t)y * width + x;
+#if MSM_LAYERS
+    const size_t layer_stride = (size_t)width * height * MSM_SAMPLES;
+    store_moments(moments, texel, resolve_translucent_texel(depth, layer_depth, layer_opacity, layer_stride, texel));
+#else
     store_moments(moments, texel, resolve_texel(depth, texel));
+#endif
 }
 
 // (b) Horizontal 9-tap blur, clamp-to-edge.

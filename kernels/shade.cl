@@ -1,12 +1,15 @@
 // shade: evaluates a filtered moment shadow map at receiver points (SPEC section 8).
 // Compile-time: MSM_FORMAT (0 moments128, 1 msm64, 2 nlq64, 3 nlq32; the order of
-// msmcl::Format), MSM_LOOKUP (0 nearest, 1 bilinear), MSM_DEPTH_ZERO_ONE (1 for [0,1]).
+// msmcl::Format), MSM_LOOKUP (0 nearest, 1 bilinear, 2 dither: kernel shade_dither),
+// MSM_DEPTH_ZERO_ONE (1 for [0,1]); for dither MSM_RECEIVER_PIXELS (1: a buffer of screen
+// pixels, 0: receivers are the pixels of a row-major image).
 // The linear formats take the accurate (float-float) path of msm_shading.clh; the host twin
 // is msmcl::shade_receiver (host/shading/shading.cpp).
 #include "msm_shading.clh"
 
 #define MSM_LOOKUP_NEAREST 0
 #define MSM_LOOKUP_BILINEAR 1
+#define MSM_LOOKUP_DITHER 2
 
 #if MSM_FORMAT == 0
 #define MSM_TEXEL_WORDS 4
@@ -32,7 +35,7 @@ static inline msm_word2 texel_word2(__global const uint* map, size_t texel) {
 }
 #endif
 
-#if MSM_LOOKUP == MSM_LOOKUP_NEAREST || MSM_FORMAT >= 2
+#if MSM_LOOKUP == MSM_LOOKUP_NEAREST || MSM_LOOKUP == MSM_LOOKUP_DITHER || MSM_FORMAT >= 2
 // Shadow intensity of one texel at internal depth zf, as the format's consumer does it.
 static inline float texel_shadow(__global const uint* map, size_t texel, float zf) {
 #if MSM_FORMAT == 0
@@ -47,6 +50,7 @@ static inline float texel_shadow(__global const uint* map, size_t texel, float z
 }
 #endif
 
+#if MSM_LOOKUP != MSM_LOOKUP_DITHER
 __kernel void shade(__global const uint* map, int width, int height,
                     __global const float* receivers_uvz, uint count,
                     __global float* intensity, float depth_bias) {
@@ -80,3 +84,41 @@ __kernel void shade(__global const uint* map, int width, int height,
 #endif
 #endif
 }
+#endif
+
+#if MSM_LOOKUP == MSM_LOOKUP_DITHER
+// Dithered lookup: one texel, floor(u - 0.5 + n) per axis with the blue noise n of the
+// receiver's screen pixel. `noise` is the frame's 64x64 texture (2 bytes per texel),
+// `offset_x/y` its shift (msm_blue_noise_frame_of). Pixels: `pixels` holds count x then count
+// y (MSM_RECEIVER_PIXELS 1), else receiver i is pixel (i % screen_width, i / screen_width).
+__kernel void shade_dither(__global const uint* map, int width, int height,
+                           __global const float* receivers_uvz, uint count,
+                           __global float* intensity, float depth_bias,
+                           __global const uchar* noise, uint offset_x, uint offset_y,
+                           __global const uint* pixels, uint screen_width) {
+    const size_t i = get_global_id(0);
+    if (i >= count) return;
+    const float u = receivers_uvz[i];
+    const float v = receivers_uvz[count + i];
+    const float zf = msm_internal_depth(receivers_uvz[2 * (size_t)count + i], MSM_DEPTH_ZERO_ONE) - depth_bias;
+
+    // The receiver's screen pixel and its noise texel in this frame's texture.
+#if MSM_RECEIVER_PIXELS
+    const uint px = pixels[i];
+    const uint py = pixels[count + i];
+#else
+    const uint px = (uint)i % screen_width;
+    const uint py = (uint)i / screen_width;
+#endif
+    msm_blue_noise_frame frame;
+    frame.texture = 0u; // `noise` holds the frame's texture alone
+    frame.offset_x = offset_x;
+    frame.offset_y = offset_y;
+    const uint t = msm_blue_noise_texel_in_texture(frame, px, py);
+
+    // One texel, shaded as the nearest lookup shades it.
+    const int x = msm_dither_index(u, msm_blue_noise_value(noise[2 * t]), width);
+    const int y = msm_dither_index(v, msm_blue_noise_value(noise[2 * t + 1]), height);
+    intensity[i] = texel_shadow(map, (size_t)y * width + x, zf);
+}
+#endif

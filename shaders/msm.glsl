@@ -25,7 +25,7 @@
 // the fast path loses up to ~1e-3 (msm64) or more at sharp contact shadows (moments128,
 // whose float bias 3e-7 is below float32 rounding) -- see msm_shading.clh.
 // On a GPU, results differ from the CPU by the usual float rounding (no denormals, fused
-// multiply-adds where the compiler chooses, approximate exp/log/acos).
+// multiply-adds where the compiler chooses, approximate exp/log/acos/asin).
 #ifndef MSM_GLSL
 #define MSM_GLSL
 
@@ -45,12 +45,13 @@
 #define MSM_SAT_BSTAR MSM_BSTAR_FLOAT
 #define MSM_SAT_BLOCKER_EPS 0.01f
 #define MSM_SAT_UMBRA_EPS 0.01f
+#define MSM_PI 3.14159265358979323846f
 #define MSM_SIX_OFFSET_B1 0.018888946f
 #define MSM_SCATTER_ALPHA6 4e-3f
-#define MSM_SCATTER_BSTAR2 (1.0f / 3.0f)
-#define MSM_SCATTER_BSTAR4 (1.0f / 5.0f)
-#define MSM_SCATTER_BSTAR6 (1.0f / 7.0f)
-#define MSM_SCATTER_MIN_D33 (0.5f * MSM_SCATTER_ALPHA6 * (1.0f / 7.0f - 3.0f / 25.0f))
+#define MSM_SCATTER_BSTAR2 0.5f
+#define MSM_SCATTER_BSTAR4 0.375f
+#define MSM_SCATTER_BSTAR6 0.3125f
+#define MSM_SCATTER_MIN_D33 (0.1f * MSM_SCATTER_ALPHA6 * (MSM_SCATTER_BSTAR6 - MSM_SCATTER_BSTAR4 * MSM_SCATTER_BSTAR4 / MSM_SCATTER_BSTAR2))
 #define MSM_SCATTER_MIN_NODE_GAP 1e-6f
 
 // ---- Types.
@@ -752,9 +753,6 @@ msm_cubic_roots msm_cubic_roots_trig(float k0, float k1, float k2, float k3) {
     return roots;
 }
 
-// x = 1 / y for a root y of the reversed cubic (y = 0: a root at infinity, taken as 1e20).
-float msm_reciprocal_root(float y) { return abs(y) > 1e-20f ? 1.0f / y : 1e20f; }
-
 msm_moments msm_moments6_first4(msm_moments6 a) {
     msm_moments m;
     m.b1 = a.b1;
@@ -793,19 +791,31 @@ float msm_hamburger6_blend(msm_moments6 b, float zf, float beta) {
     c2 -= l32 * c3;
     c1 -= l21 * c2 + l31 * c3;
     float c0 = 1.0f - (b.b1 * c1 + b.b2 * c2 + b.b3 * c3);
-    // A root far outside [-1, 1]: solve for its reciprocal instead (msm_scatter.clh).
-    bool reversed = abs(c2) > 4.0f * abs(c3);
-    msm_cubic_roots roots;
-    if (reversed)
-        roots = msm_cubic_roots_trig(c3, c2, c1, c0);
-    else
-        roots = msm_cubic_roots_trig(c0, c1, c2, c3);
-    float z1 = reversed ? msm_reciprocal_root(roots.r1) : roots.r1;
-    float z2 = reversed ? msm_reciprocal_root(roots.r2) : roots.r2;
-    float z3 = reversed ? msm_reciprocal_root(roots.r3) : roots.r3;
+    // Closed form; the largest root refined by Newton and divided out from the constant
+    // term up, the other two from the remaining quadratic, each then one Newton step
+    // (msm_scatter.clh: the closed form alone loses the small roots with a far one).
+    msm_cubic_roots roots = msm_cubic_roots_trig(c0, c1, c2, c3);
+    float far_root = roots.r1;
+    if (abs(roots.r2) > abs(far_root)) far_root = roots.r2;
+    if (abs(roots.r3) > abs(far_root)) far_root = roots.r3;
+    float z1 = roots.r1;
+    float z2 = roots.r2;
+    float z3 = roots.r3;
+    if (abs(far_root) > 1e-6f) {
+        far_root = msm_cubic_newton(c0, c1, c2, c3, far_root);
+        z3 = far_root;
+        // c(x) = (x - R)(a2 x^2 + a1 x + a0) from the constant term.
+        float a0 = -c0 / far_root;
+        float a1 = (a0 - c1) / far_root;
+        float a2 = (a1 - c2) / far_root;
+        float discriminant = msm_maxf(a1 * a1 - 4.0f * a2 * a0, 0.0f);
+        float half_sum = -0.5f * (a1 + (a1 >= 0.0f ? sqrt(discriminant) : -sqrt(discriminant)));
+        z1 = half_sum != 0.0f ? a0 / half_sum : 0.0f;
+        z2 = a2 != 0.0f ? half_sum / a2 : z1;
+    }
     z1 = msm_cubic_newton(c0, c1, c2, c3, z1);
     z2 = msm_cubic_newton(c0, c1, c2, c3, z2);
-    z3 = msm_cubic_newton(c0, c1, c2, c3, z3);
+    // The farthest root last (it then enters only the divided differences' denominators).
     if (abs(z1) > abs(z3)) {
         float t = z1;
         z1 = z3;
@@ -846,9 +856,13 @@ msm_moments6 msm_scatter_bias6(msm_moments6 b) {
 }
 
 // Shadow of a view ray at rectified depth zf from prefix-summed moments, blended by beta
-// ((1 + dot(light direction, view direction)) / 2 in SPEC section 6).
+// ((1 + dot(light direction, view direction)) / 2 in SPEC section 6). The bias distribution
+// (arcsine on [-1, 1]) has the share 1/2 + asin(zf) / pi below zf: taken out again, so the
+// bounds are those of the stored moments (no uniform leak of up to alpha in full shadow).
 float msm_scatter_shadow6(msm_moments6 unbiased, float zf, float beta) {
-    return msm_hamburger6_blend(msm_scatter_bias6(unbiased), zf, beta);
+    float mixture = msm_hamburger6_blend(msm_scatter_bias6(unbiased), zf, beta);
+    float bias_share_below = 0.5f + asin(clamp(zf, -1.0f, 1.0f)) / MSM_PI;
+    return clamp((mixture - MSM_SCATTER_ALPHA6 * bias_share_below) / (1.0f - MSM_SCATTER_ALPHA6), 0.0f, 1.0f);
 }
 
 // Four moments (msm64 layout): the msm64 bias and the Hamburger 4MSM bounds.

@@ -431,8 +431,8 @@ TEST_F(Cli, ShadeRejectsEveryBadInputWithExitTwoAndNoOutput) {
     write_receivers(in("r.exr"), 3, 2, 1.0f, 1.0f, 0.5f);
     msmcl::io::write_depth_exr(in("depth.exr"), make_depth(8, 8, 1, DepthRange::zero_one));
 
-    expect_bad_input({"shade", in("map.exr"), in("r.exr"), out("y.exr"), "--lookup", "dither"}, "",
-                     "--lookup dither is not supported yet");
+    expect_bad_input({"shade", in("map.exr"), in("r.exr"), out("y.exr"), "--lookup", "dither", "--frame", "-1"}, "",
+                     "--frame must be a whole number");
     expect_bad_input({"shade", in("map.exr"), in("r.exr"), out("y.exr"), "--lookup", "cubic"}, "",
                      "unknown --lookup 'cubic'");
     expect_bad_input({"shade", in("map.exr"), in("r.exr"), out("y.exr"), "--depth-bias", "inf"}, "",

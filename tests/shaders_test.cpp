@@ -37,6 +37,7 @@
 // ---- The GLSL file as C++: GLSL's types, intrinsics and texelFetch on host arrays.
 namespace glsl_shader {
 using std::acos;
+using std::asin;
 using std::sin;
 using std::ceil;
 using std::cos;
@@ -93,6 +94,7 @@ inline uvec4 texelFetch(const usampler2D& t, ivec2 at, int) {
 // ---- The HLSL file as C++.
 namespace hlsl_shader {
 using std::acos;
+using std::asin;
 using std::sin;
 using std::ceil;
 using std::cos;

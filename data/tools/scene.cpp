@@ -3,7 +3,10 @@
 // casts onto the ground. Depth is exact (ray-box and ray-plane intersections in double)
 // at every standard D3D MSAA sample position of an orthographic directional light.
 // Also writes the receivers of a perspective view (each pixel's visible surface point in
-// light space), the view's lighting terms and previews.
+// light space), the view's lighting terms and previews. With --smoke N, a plume of smoke in
+// front of the banner as N translucent planes facing the light (seed 001 section 4): per sample
+// and plane a depth and an opacity, channels layer<k>.Z, layer<k>.A (one sample) or
+// layer<k>.sample<s>.Z, layer<k>.sample<s>.A, beside the unchanged opaque depth.
 #include "geometry.hpp"
 #include "msaa_pattern.hpp"
 
@@ -14,8 +17,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 namespace {
 
@@ -114,6 +119,97 @@ private:
     Vec3 ground_high_{2.3, 0.0, 0.9};
 };
 
+/// A smoke plume rising from the ground in front of the banner, sliced by planes that face
+/// the light (as a volume renderer slices it for opacity shadow maps): plane k stands for a
+/// slab of the plume at light depth depth(k), with the opacity 1 - exp(-density * thickness)
+/// of that slab along each light ray. The density is value-noise fBm inside a widening,
+/// swaying column.
+class SmokePlume {
+public:
+    explicit SmokePlume(int planes) : planes_(planes) {}
+
+    /// Corners of the column's bounding box (the light's map must cover them).
+    std::vector<Vec3> corners() const {
+        std::vector<Vec3> points;
+        const double reach = sway_ + radius_ + growth_;
+        for (int corner = 0; corner < 8; ++corner)
+            points.push_back({corner & 1 ? axis_x_ + reach : axis_x_ - reach, corner & 2 ? top_ : bottom_,
+                              corner & 4 ? axis_z_ + reach : axis_z_ - reach});
+        return points;
+    }
+
+    /// Spreads the planes over the column's depth range in the light's map.
+    void place(const msmcl::data::OrthographicLight& light) {
+        first_ = 1.0;
+        last_ = 0.0;
+        for (const Vec3& p : corners()) {
+            first_ = std::min(first_, light.depth(p));
+            last_ = std::max(last_, light.depth(p));
+        }
+        world_range_ = light.far - light.near;
+    }
+
+    int planes() const { return planes_; }
+    /// Light depth in [0, 1] of plane k: the centres of equal slabs of the plume's range.
+    double depth(int k) const { return first_ + (last_ - first_) * (k + 0.5) / planes_; }
+
+    /// Opacity in [0, 1) of plane k's slab at point p (on the plane).
+    double opacity(Vec3 p) const {
+        // Column: axis sways with height, radius grows.
+        const double axis_x = axis_x_ + sway_ * std::sin(3.0 * p.y);
+        const double radius = radius_ + growth_ * std::clamp((p.y - bottom_) / (top_ - bottom_), 0.0, 1.0);
+        const double r = std::hypot(p.x - axis_x, p.z - axis_z_) / radius;
+        const double column = 1.0 - smoothstep(0.35, 1.0, r);
+        const double fade = smoothstep(bottom_, bottom_ + 0.2, p.y) * (1.0 - smoothstep(top_ - 0.25, top_, p.y));
+        if (column <= 0.0 || fade <= 0.0) return 0.0;
+        // Turbulence: four octaves of value noise.
+        double noise = 0.0, amplitude = 0.5, frequency = 6.0;
+        for (int octave = 0; octave < 4; ++octave, amplitude *= 0.5, frequency *= 2.0)
+            noise += amplitude * value_noise(frequency * p.x, frequency * p.y, frequency * p.z);
+        const double density = column * fade * std::max(0.0, 2.2 * noise - 0.35);
+        // Slab thickness in world units along the light (the depth range spans far - near).
+        return 1.0 - std::exp(-density * extinction_ * slab_world_thickness());
+    }
+
+private:
+    double slab_world_thickness() const { return (last_ - first_) * world_range_ / planes_; }
+    static double smoothstep(double edge0, double edge1, double x) {
+        const double t = std::clamp((x - edge0) / (edge1 - edge0), 0.0, 1.0);
+        return t * t * (3.0 - 2.0 * t);
+    }
+    // Lattice values in [0, 1) from an integer hash (SplitMix64's finalizer).
+    static double lattice(long x, long y, long z) {
+        std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9e3779b97f4a7c15ull ^
+                          static_cast<std::uint64_t>(y) * 0xc2b2ae3d27d4eb4full ^
+                          static_cast<std::uint64_t>(z) * 0x165667b19e3779f9ull;
+        h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+        h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+        h ^= h >> 31;
+        return static_cast<double>(h >> 11) * 0x1.0p-53;
+    }
+    // Trilinear value noise with smoothstep weights, in [0, 1).
+    static double value_noise(double x, double y, double z) {
+        const double fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
+        const long ix = static_cast<long>(fx), iy = static_cast<long>(fy), iz = static_cast<long>(fz);
+        const double tx = smoothstep(0, 1, x - fx), ty = smoothstep(0, 1, y - fy), tz = smoothstep(0, 1, z - fz);
+        double result = 0.0;
+        for (int corner = 0; corner < 8; ++corner) {
+            const int cx = corner & 1, cy = (corner >> 1) & 1, cz = corner >> 2;
+            result += (cx ? tx : 1 - tx) * (cy ? ty : 1 - ty) * (cz ? tz : 1 - tz) * lattice(ix + cx, iy + cy, iz + cz);
+        }
+        return result;
+    }
+
+    int planes_;
+    // The column: axis at (axis_x, axis_z) swaying by sway, radius growing from radius to
+    // radius + growth between bottom and top.
+    double axis_x_ = -0.1, axis_z_ = 0.6, sway_ = 0.1, radius_ = 0.15, growth_ = 0.3;
+    double bottom_ = 0.05, top_ = 1.3;
+    double first_ = 0, last_ = 1;
+    double world_range_ = 1;
+    double extinction_ = 9.0; // per world unit at density 1
+};
+
 double albedo(Material material, Vec3 p) {
     switch (material) {
     case Material::ground: {
@@ -129,7 +225,7 @@ double albedo(Material material, Vec3 p) {
 }
 
 struct Options {
-    int width = 256, height = 0, samples = 4;
+    int width = 256, height = 0, samples = 4, smoke_planes = 0;
     int view_width = 320, view_height = 240;
     bool half = false;
     std::string depth_path, receivers_path, lighting_path, hard_preview_path, depth_preview_path;
@@ -140,8 +236,13 @@ int run(const Options& options) {
     const RailingScene scene;
     // Light from the upper left front, shining down and back onto the banner and the ground.
     const Vec3 light_direction = msmcl::data::normalize({0.35, -0.55, -0.75});
+    // With smoke, the map also covers the plume (nearer to the light than the opaque scene).
+    SmokePlume smoke(options.smoke_planes);
+    std::vector<Vec3> extent = scene.extent();
+    if (smoke.planes() > 0) for (const Vec3& p : smoke.corners()) extent.push_back(p);
     const msmcl::data::OrthographicLight light =
-        msmcl::data::fit_light(light_direction, scene.extent(), options.width, height);
+        msmcl::data::fit_light(light_direction, extent, options.width, height);
+    smoke.place(light);
 
     // Shadow map: one light ray per MSAA sample; depth of the nearest surface.
     const std::vector<msmcl::data::SampleOffset> pattern = msmcl::data::standard_sample_pattern(options.samples);
@@ -161,8 +262,29 @@ int run(const Options& options) {
                 depth.depth[(static_cast<std::size_t>(y) * options.width + x) * options.samples + s] =
                     static_cast<float>(std::clamp(d, 0.0, 1.0));
             }
-    msmcl::io::write_depth_exr(options.depth_path, depth,
-                               options.half ? msmcl::io::SampleType::half : msmcl::io::SampleType::float32);
+    // Smoke: each light ray crosses every plane once, at the plane's depth.
+    msmcl::io::TranslucentDepth layered;
+    layered.layers.resize(smoke.planes());
+    for (int k = 0; k < smoke.planes(); ++k) {
+        msmcl::TranslucentLayer& layer = layered.layers[k];
+        layer.depth.assign(depth.depth.size(), static_cast<float>(std::clamp(smoke.depth(k), 0.0, 1.0)));
+        layer.opacity.resize(depth.depth.size());
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < options.width; ++x)
+                for (int s = 0; s < options.samples; ++s) {
+                    const double u = x + 0.5 + pattern[s].x16 / 16.0, v = y + 0.5 + pattern[s].y16 / 16.0;
+                    const Vec3 p = light.near_point(u, v) + (smoke.depth(k) * (light.far - light.near)) * light.forward;
+                    layer.opacity[(static_cast<std::size_t>(y) * options.width + x) * options.samples + s] =
+                        static_cast<float>(smoke.opacity(p));
+                }
+    }
+    const msmcl::io::SampleType type = options.half ? msmcl::io::SampleType::half : msmcl::io::SampleType::float32;
+    if (smoke.planes() == 0) {
+        msmcl::io::write_depth_exr(options.depth_path, depth, type);
+    } else {
+        layered.depth = depth;
+        msmcl::io::write_translucent_depth_exr(options.depth_path, layered, type);
+    }
     if (!options.depth_preview_path.empty()) {
         std::vector<float> first_sample(static_cast<std::size_t>(options.width) * height);
         for (std::size_t t = 0; t < first_sample.size(); ++t) first_sample[t] = depth.depth[t * options.samples];
@@ -204,11 +326,19 @@ int run(const Options& options) {
             ambient[i] = static_cast<float>(a * ambient_share);
             direct[i] = static_cast<float>(a * (1 - ambient_share) * lambert);
 
-            // Unfiltered reference: share of the nearest texel's samples that do not occlude.
+            // Unfiltered reference: share of the nearest texel's samples that do not occlude,
+            // times the smoke's transmittance in front of the receiver.
             const int tx = std::clamp(static_cast<int>(std::floor(u)), 0, options.width - 1);
             const int ty = std::clamp(static_cast<int>(std::floor(v)), 0, height - 1);
-            int lit = 0;
-            for (int s = 0; s < options.samples; ++s) lit += depth.at(tx, ty, s) >= d - 2e-3 ? 1 : 0;
+            double lit = 0;
+            for (int s = 0; s < options.samples; ++s) {
+                if (depth.at(tx, ty, s) < d - 2e-3) continue;
+                double transmitted = 1.0;
+                const std::size_t at = (static_cast<std::size_t>(ty) * options.width + tx) * options.samples + s;
+                for (const msmcl::TranslucentLayer& layer : layered.layers)
+                    if (layer.depth[at] < d - 2e-3) transmitted *= 1.0 - layer.opacity[at];
+                lit += transmitted;
+            }
             hard[i] = ambient[i] + direct[i] * static_cast<float>(lit) / options.samples;
         }
     if (!options.receivers_path.empty()) msmcl::io::write_receivers_exr(options.receivers_path, receivers);
@@ -238,6 +368,10 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::IsMember({1, 2, 4, 8, 16}));
     app.add_flag("--half", options.half, "store depth as HALF instead of FLOAT");
+    app.add_option("--smoke", options.smoke_planes,
+                   "translucent smoke in front of the banner: N planes written as layer<k>.Z / layer<k>.A")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 8));
     app.add_option("--receivers", options.receivers_path, "receivers EXR (U, V, Z) of the view");
     app.add_option("--view-width", options.view_width, "view width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
     app.add_option("--view-height", options.view_height, "view height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));

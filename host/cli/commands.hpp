@@ -21,6 +21,7 @@ struct FilterArguments {
     std::string format;
     std::string sigma = "2.4";
     std::string depth_range = "0,1";
+    std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension (.ktx2, .dds, else exr)
 };
 
 struct ShadeArguments {
@@ -30,6 +31,7 @@ struct ShadeArguments {
     std::string lookup = "bilinear";
     std::string depth_bias = "1e-3";
     std::string depth_range; ///< empty: the map's msmcl:depthRange
+    std::string frame = "0"; ///< dither: the frame number (blue-noise texture and shift)
 };
 
 /// Global options shared by every subcommand.

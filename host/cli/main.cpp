@@ -2,6 +2,8 @@
 // Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
 // Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>".
 #include "cli/commands.hpp"
+#include "cli/sat_commands.hpp"
+#include "cli/scatter_commands.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/version.hpp>
@@ -55,12 +57,13 @@ int main(int argc, char** argv) {
                    "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown SPEC is an error")
         ->type_name("SPEC");
 
-    // msmcl filter IN.exr OUT.exr --format F [--sigma S] [--depth-range R]
+    // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--out-container C]
     msmcl::cli::FilterArguments filter;
     CLI::App* filter_command =
-        app.add_subcommand("filter", "Depth map (EXR, Z or sample<N>.Z) -> filtered moment shadow map (EXR)");
-    filter_command->add_option("input", filter.input, "depth map EXR")->required();
-    filter_command->add_option("output", filter.output, "texture EXR to write")->required();
+        app.add_subcommand("filter", "Depth map (EXR, Z or sample<N>.Z) -> filtered moment shadow map (EXR, KTX2 or DDS)");
+    filter_command->add_option("input", filter.input, "depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A)")
+        ->required();
+    filter_command->add_option("output", filter.output, "texture to write (EXR; .ktx2 or .dds: KTX2 or DDS)")->required();
     filter_command->add_option("--format", filter.format, "moments128, msm64, nlq64 or nlq32")->required()->type_name("FORMAT");
     filter_command->add_option("--sigma", filter.sigma, "Gaussian sigma in texels, >= 0 (0 = no blur)")
         ->capture_default_str()
@@ -68,21 +71,39 @@ int main(int argc, char** argv) {
     filter_command->add_option("--depth-range", filter.depth_range, "depth convention of the input: 0,1 or -1,1")
         ->capture_default_str()
         ->type_name("RANGE");
+    filter_command->add_option("--out-container", filter.out_container,
+                               "exr, ktx2 or dds (default: from the output's extension, else exr)")
+        ->type_name("CONTAINER");
 
-    // msmcl shade MAP.exr RECEIVERS.exr OUT.exr [--lookup L] [--depth-bias B] [--depth-range R]
+    // msmcl shade MAP.exr RECEIVERS.exr OUT.exr [--lookup L] [--frame N] [--depth-bias B] [--depth-range R]
     msmcl::cli::ShadeArguments shade;
     CLI::App* shade_command =
         app.add_subcommand("shade", "Filtered map + receivers (EXR U,V,Z) -> shadow intensity (EXR Y)");
     shade_command->add_option("map", shade.map, "texture EXR written by msmcl filter")->required();
-    shade_command->add_option("receivers", shade.receivers, "receivers EXR (FLOAT U, V in texels, Z depth)")->required();
+    shade_command->add_option("receivers", shade.receivers,
+                              "receivers EXR (FLOAT U, V in texels, Z depth; optional PX, PY screen pixels)")
+        ->required();
     shade_command->add_option("output", shade.output, "intensity EXR to write (channel Y)")->required();
-    shade_command->add_option("--lookup", shade.lookup, "nearest or bilinear")->capture_default_str()->type_name("LOOKUP");
+    shade_command->add_option("--lookup", shade.lookup, "nearest, bilinear or dither (blue noise, one texel)")
+        ->capture_default_str()
+        ->type_name("LOOKUP");
+    shade_command->add_option("--frame", shade.frame, "dither: frame number (picks the blue-noise texture and shift)")
+        ->capture_default_str()
+        ->type_name("N");
     shade_command->add_option("--depth-bias", shade.depth_bias, "subtracted from the receiver's internal depth")
         ->capture_default_str()
         ->type_name("FLOAT");
     shade_command->add_option("--depth-range", shade.depth_range,
                               "depth convention of the receivers: 0,1 or -1,1 (default: the map's)")
         ->type_name("RANGE");
+
+    // msmcl sat ... and msmcl soft ... (host/cli/sat_commands.cpp)
+    msmcl::cli::SatCommands sat_commands;
+    msmcl::cli::add_sat_commands(app, sat_commands);
+
+    // msmcl scatter ... (host/cli/scatter_commands.cpp)
+    msmcl::cli::ScatterArguments scatter;
+    msmcl::cli::add_scatter_command(app, scatter);
 
     CLI::App* devices_command = app.add_subcommand("devices", "List OpenCL devices; marks the one msmcl picks");
 
@@ -104,6 +125,8 @@ int main(int argc, char** argv) {
         if (filter_command->parsed()) msmcl::cli::run_filter(global, filter);
         else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
         else if (devices_command->parsed()) msmcl::cli::run_devices(global);
+        else if (scatter.command->parsed()) msmcl::cli::run_scatter(global, scatter);
+        else msmcl::cli::run_sat_commands(global, sat_commands);
         return 0;
     } catch (const msmcl::cli::usage_error& e) {
         return report(e.what(), exit_bad_input);

@@ -53,7 +53,8 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     SatArguments& sat = commands.sat;
     CLI::App* sat_command = app.add_subcommand(
         "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, UINT R,G,B,A)");
-    sat_command->add_option("input", sat.input, "depth map EXR")->required();
+    sat_command->add_option("input", sat.input, "depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A)")
+        ->required();
     sat_command->add_option("output", sat.output, "table EXR to write")->required();
     sat_command->add_option("--max-kernel", sat.max_kernel,
                             "N: texels of the largest rectangle ever queried (precision log2(2^32/N) bits)")
@@ -110,12 +111,13 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
         integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
     options.depth_range = depth_range_option(arguments.depth_range);
 
-    // Read and validate the depth map, build the table on the device.
-    const DepthImage depth = io::read_depth_exr(arguments.input, options.depth_range);
+    // Read and validate the depth map (and its translucent layers), build the table on the device.
+    const io::TranslucentDepth layered = io::read_translucent_depth_exr(arguments.input, options.depth_range);
+    const DepthImage& depth = layered.depth;
     Context context(global.selection());
     SatTable table;
     try {
-        table = build_sat(context, depth, options);
+        table = build_sat(context, depth, layered.layers, options);
     } catch (const input_error& e) {
         rethrow_with_file(arguments.input, e);
     }

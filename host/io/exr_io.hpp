@@ -6,7 +6,9 @@
 // no time stamps, attributes only as given.
 #pragma once
 
+#include <msmcl/filter.hpp>
 #include <msmcl/formats.hpp>
+#include <msmcl/shade.hpp>
 
 #include <cstdint>
 #include <string>
@@ -68,14 +70,36 @@ DepthImage read_depth_exr(const std::string& path, DepthRange range);
 void write_depth_exr(const std::string& path, const DepthImage& depth,
                      SampleType type = SampleType::float32);
 
+/// A depth map with translucent layers (SPEC section 7).
+struct TranslucentDepth {
+    DepthImage depth;
+    std::vector<TranslucentLayer> layers;
+};
+/// The opaque depth as read_depth_exr reads it, plus layers k = 0, 1, ... (at most
+/// max_translucent_layers, numbered without gaps, in any order of the channels): per layer
+/// `layer<k>.Z` and `layer<k>.A` (depth and opacity, one value for every sample of the
+/// texel), or with S > 1 samples `layer<k>.sample<s>.Z` and `layer<k>.sample<s>.A` for
+/// every s. HALF or FLOAT; depths finite and in `range`, opacities in [0, 1]. A file
+/// without layers gives an empty list.
+TranslucentDepth read_translucent_depth_exr(const std::string& path, DepthRange range);
+/// Writes the opaque depth as write_depth_exr, and each layer per sample (`layer<k>.Z`,
+/// `layer<k>.A` for one sample, else `layer<k>.sample<s>.Z`, `layer<k>.sample<s>.A`).
+void write_translucent_depth_exr(const std::string& path, const TranslucentDepth& depth,
+                                 SampleType type = SampleType::float32);
+
 /// Receiver points on a width x height grid (row-major), e.g. the pixels of a view.
 struct ReceiverGrid {
     int width = 0;
     int height = 0;
     Receivers points;
+    /// Optional screen pixel of each receiver (channels `PX`, `PY`); empty when the file has
+    /// none (the receivers are then the row-major pixels of the grid).
+    ReceiverPixels pixels;
 };
-/// FLOAT (or HALF) channels `U`, `V`, `Z`, all finite.
+/// FLOAT (or HALF) channels `U`, `V`, `Z`, all finite; optionally `PX` and `PY` (both or
+/// neither; UINT, or HALF/FLOAT holding whole numbers in [0, 2^24]).
 ReceiverGrid read_receivers_exr(const std::string& path);
+/// Writes `U`, `V`, `Z` as FLOAT, and `PX`, `PY` as UINT when the grid has pixels.
 void write_receivers_exr(const std::string& path, const ReceiverGrid& receivers);
 
 /// What a filtered texture file records besides its texels.

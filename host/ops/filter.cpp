@@ -1,4 +1,5 @@
 // filter: depth map -> resolved, blurred, quantized moment shadow map (SPEC sections 2-4).
+#include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
@@ -10,6 +11,7 @@
 #include <cstddef>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace msmcl {
@@ -85,9 +87,17 @@ void validate_shape(int width, int height, int samples) {
 
 std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }
 
+// Translucent layers of a call on the device: none (count 0), or the two buffers holding
+// count layers each (include/msmcl/filter.hpp, DeviceLayers).
+struct LayerBuffers {
+    cl::Buffer depth;
+    cl::Buffer opacity;
+    int count = 0;
+};
+
 // Buffers the call allocates or reads, against the device's largest allocation.
 void validate_device_sizes(const DeviceInfo& device, int width, int height, int samples, Format format,
-                           FilterKernel kernel) {
+                           FilterKernel kernel, int layers = 0) {
     const unsigned long long texels = texel_count(width, height);
     const auto check = [&](unsigned long long bytes, const char* what) {
         if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes) {
@@ -97,6 +107,7 @@ void validate_device_sizes(const DeviceInfo& device, int width, int height, int 
         }
     };
     check(texels * samples * sizeof(float), "the depth buffer");
+    check(layers * texels * samples * sizeof(float), "the translucent layers");
     check(texels * texel_bytes(format), "the texture");
     if (kernel == FilterKernel::three_pass) check(texels * 4 * sizeof(float), "the three-pass moment buffer");
 }
@@ -156,10 +167,13 @@ FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
 }
 
 // Compile-time variant: sample count, format (msmcl::Format order), depth convention.
-std::vector<std::string> kernel_defines(int samples, const FilterOptions& options) {
-    return {"MSM_SAMPLES=" + std::to_string(samples),
-            "MSM_FORMAT=" + std::to_string(static_cast<int>(options.format)),
-            "MSM_DEPTH_ZERO_ONE=" + std::string(options.depth_range == DepthRange::zero_one ? "1" : "0")};
+std::vector<std::string> kernel_defines(int samples, const FilterOptions& options, int layers) {
+    std::vector<std::string> defines = {
+        "MSM_SAMPLES=" + std::to_string(samples), "MSM_FORMAT=" + std::to_string(static_cast<int>(options.format)),
+        "MSM_DEPTH_ZERO_ONE=" + std::string(options.depth_range == DepthRange::zero_one ? "1" : "0")};
+    // Translucent layers: the compositing resolve (opaque maps keep the opaque program).
+    if (layers > 0) defines.push_back("MSM_LAYERS=" + std::to_string(layers));
+    return defines;
 }
 
 // Sets the 5 distinct taps w0 (centre) .. w4 as float arguments starting at `first`.
@@ -179,9 +193,9 @@ cl_ulong buffer_size(cl_mem buffer) {
 cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& queue,
                             const std::vector<cl::Event>& waits, const cl::Buffer& depth, int width, int height,
                             const cl::Buffer& texture, const FilterOptions& options, int samples,
-                            const std::array<float, 9>& taps) {
+                            const std::array<float, 9>& taps, const LayerBuffers& layers) {
     const CpuTiling tiling = cpu_tiling();
-    std::vector<std::string> defines = kernel_defines(samples, options);
+    std::vector<std::string> defines = kernel_defines(samples, options, layers.count);
     defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
     defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));
     // Tile grid; tile columns [ix0, ix1) read and write no column outside the image.
@@ -223,6 +237,10 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
         cl::Kernel& kernel = prepare(name);
         detail::set_arg(kernel, 11, progress);
         detail::set_arg(kernel, 12, 0); // `zero`: see CPU_X in the kernel
+        if (layers.count > 0) {
+            detail::set_arg(kernel, 13, layers.depth);
+            detail::set_arg(kernel, 14, layers.opacity);
+        }
         detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange,
                                                  cl::NDRange(columns * group, static_cast<std::size_t>(tiles_y)),
                                                  cl::NDRange(group, 1), &before, &last),
@@ -237,11 +255,11 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
 // Enqueues the whole filter on `queue`; returns the event of its last command.
 cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
                          const cl::Buffer& depth, int width, int height, int samples, const cl::Buffer& texture,
-                         const FilterOptions& options) {
+                         const FilterOptions& options, const LayerBuffers& layers) {
     const std::array<float, 9> taps = gaussian_taps(options.sigma);
     const FilterKernel kernel_choice = choose_kernel(impl.info, options.kernel);
-    validate_device_sizes(impl.info, width, height, samples, options.format, kernel_choice);
-    const std::vector<std::string> defines = kernel_defines(samples, options);
+    validate_device_sizes(impl.info, width, height, samples, options.format, kernel_choice, layers.count);
+    const std::vector<std::string> defines = kernel_defines(samples, options, layers.count);
     const cl::NDRange image(static_cast<std::size_t>(width), static_cast<std::size_t>(height));
     cl::Event last;
 
@@ -259,6 +277,10 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
         detail::check(fused.setArg(2, height), "clSetKernelArg");
         detail::check(fused.setArg(3, texture), "clSetKernelArg");
         set_tap_arguments(fused, 4, taps);
+        if (layers.count > 0) {
+            detail::check(fused.setArg(9, layers.depth), "clSetKernelArg");
+            detail::check(fused.setArg(10, layers.opacity), "clSetKernelArg");
+        }
         // One work-group of 256 per 32x24 output tile.
         const std::size_t groups_x = (static_cast<std::size_t>(width) + kFusedTileWidth - 1) / kFusedTileWidth;
         const std::size_t groups_y = (static_cast<std::size_t>(height) + kFusedTileHeight - 1) / kFusedTileHeight;
@@ -269,7 +291,7 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
     }
 
     if (kernel_choice == FilterKernel::fused_cpu) return enqueue_fused_cpu(impl, queue, waits, depth, width, height,
-                                                                           texture, options, samples, taps);
+                                                                           texture, options, samples, taps, layers);
 
     // Three passes through two float4 moment buffers.
     cl_int status = CL_SUCCESS;
@@ -285,6 +307,10 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
     detail::check(resolve.setArg(1, width), "clSetKernelArg");
     detail::check(resolve.setArg(2, height), "clSetKernelArg");
     detail::check(resolve.setArg(3, resolved), "clSetKernelArg");
+    if (layers.count > 0) {
+        detail::check(resolve.setArg(4, layers.depth), "clSetKernelArg");
+        detail::check(resolve.setArg(5, layers.opacity), "clSetKernelArg");
+    }
     cl::Event resolved_event;
     detail::check(queue.enqueueNDRangeKernel(resolve, cl::NullRange, image, cl::NullRange, &waits, &resolved_event),
                   "clEnqueueNDRangeKernel(filter_resolve)");
@@ -345,6 +371,11 @@ bool is_supported_sample_count(int samples) noexcept {
 }
 
 Texture filter(Context& context, const DepthImage& depth, const FilterOptions& options) {
+    return filter(context, depth, std::vector<TranslucentLayer>{}, options);
+}
+
+Texture filter(Context& context, const DepthImage& depth, const std::vector<TranslucentLayer>& layers,
+               const FilterOptions& options) {
     // Validate everything before touching the device.
     validate_shape(depth.width, depth.height, depth.samples);
     const std::size_t values = texel_count(depth.width, depth.height) * depth.samples;
@@ -354,11 +385,12 @@ Texture filter(Context& context, const DepthImage& depth, const FilterOptions& o
     }
     gaussian_taps(options.sigma); // throws input_error for a bad sigma
     validate_depth_values(depth, options.depth_range);
+    detail::validate_layers("filter", depth, layers, options.depth_range);
     detail::ContextImpl& impl = context.impl();
     validate_device_sizes(impl.info, depth.width, depth.height, depth.samples, options.format,
-                          choose_kernel(impl.info, options.kernel));
+                          choose_kernel(impl.info, options.kernel), static_cast<int>(layers.size()));
 
-    // Upload, run on the Context's queue, read back.
+    // Upload (the layers one after the other), run on the Context's queue, read back.
     Texture texture;
     texture.format = options.format;
     texture.width = depth.width;
@@ -368,11 +400,23 @@ Texture filter(Context& context, const DepthImage& depth, const FilterOptions& o
     cl::Buffer depth_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, values * sizeof(float),
                             const_cast<float*>(depth.depth.data()), &status);
     detail::check(status, "clCreateBuffer(depth)");
+    LayerBuffers layer_buffers;
+    if (!layers.empty()) {
+        std::vector<float> layer_depth = detail::concatenated_depths(layers);
+        std::vector<float> layer_opacity = detail::concatenated_opacities(layers);
+        layer_buffers.depth = cl::Buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                         layer_depth.size() * sizeof(float), layer_depth.data(), &status);
+        detail::check(status, "clCreateBuffer(layer depth)");
+        layer_buffers.opacity = cl::Buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                           layer_opacity.size() * sizeof(float), layer_opacity.data(), &status);
+        detail::check(status, "clCreateBuffer(layer opacity)");
+        layer_buffers.count = static_cast<int>(layers.size());
+    }
     const std::size_t texture_bytes = texture.words.size() * sizeof(std::uint32_t);
     cl::Buffer texture_buffer(impl.context, CL_MEM_WRITE_ONLY, texture_bytes, nullptr, &status);
     detail::check(status, "clCreateBuffer(texture)");
     const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
-                                          texture_buffer, options);
+                                          texture_buffer, options, layer_buffers);
     const std::vector<cl::Event> after_filter{done};
     detail::check(impl.queue.enqueueReadBuffer(texture_buffer, CL_TRUE, 0, texture_bytes, texture.words.data(),
                                                &after_filter),
@@ -382,11 +426,17 @@ Texture filter(Context& context, const DepthImage& depth, const FilterOptions& o
 
 void filter(Context& context, const DeviceDepth& depth, cl_mem texture, const FilterOptions& options,
             const Enqueue& enqueue) {
+    filter(context, depth, DeviceLayers{}, texture, options, enqueue);
+}
+
+void filter(Context& context, const DeviceDepth& depth, const DeviceLayers& layers, cl_mem texture,
+            const FilterOptions& options, const Enqueue& enqueue) {
     validate_shape(depth.width, depth.height, depth.samples);
     if (!depth.buffer) throw input_error("filter: DeviceDepth::buffer is null");
     if (!texture) throw input_error("filter: the texture buffer is null");
     gaussian_taps(options.sigma); // throws input_error for a bad sigma
-    // The caller's buffers must hold the whole depth map and texture.
+    detail::validate_layer_count("filter", layers.count);
+    // The caller's buffers must hold the whole depth map, the layers and the texture.
     const cl_ulong depth_bytes = texel_count(depth.width, depth.height) * depth.samples * sizeof(float);
     const cl_ulong texture_bytes = texel_count(depth.width, depth.height) * texel_bytes(options.format);
     if (buffer_size(depth.buffer) < depth_bytes) {
@@ -399,10 +449,25 @@ void filter(Context& context, const DeviceDepth& depth, cl_mem texture, const Fi
                           std::to_string(depth.width) + "x" + std::to_string(depth.height) + " " +
                           format_name(options.format) + " texture needs " + std::to_string(texture_bytes));
     }
+    LayerBuffers layer_buffers;
+    if (layers.count > 0) {
+        const cl_ulong layer_bytes = depth_bytes * static_cast<cl_ulong>(layers.count);
+        for (const auto& [buffer, what] : {std::pair<cl_mem, const char*>{layers.depth, "depth"},
+                                           std::pair<cl_mem, const char*>{layers.opacity, "opacity"}}) {
+            if (!buffer) throw input_error(std::string("filter: the layer ") + what + " buffer is null");
+            if (buffer_size(buffer) < layer_bytes)
+                throw input_error(std::string("filter: the layer ") + what + " buffer holds " +
+                                  std::to_string(buffer_size(buffer)) + " bytes, " + std::to_string(layers.count) +
+                                  " layers of a " + describe_size(depth.width, depth.height, depth.samples) +
+                                  " map need " + std::to_string(layer_bytes));
+        }
+        layer_buffers = LayerBuffers{cl::Buffer(layers.depth, true), cl::Buffer(layers.opacity, true), layers.count};
+    }
     detail::ContextImpl& impl = context.impl();
     const cl::CommandQueue queue = impl.queue_for(enqueue);
     const cl::Event last = enqueue_filter(impl, queue, detail::wait_list(enqueue), cl::Buffer(depth.buffer, true),
-                                          depth.width, depth.height, depth.samples, cl::Buffer(texture, true), options);
+                                          depth.width, depth.height, depth.samples, cl::Buffer(texture, true), options,
+                                          layer_buffers);
     detail::complete(enqueue, queue, last);
 }
 

@@ -1,5 +1,6 @@
 // sat: depth map -> integer modular summed-area table (kernels/sat_build.cl), and the
 // table queries on host (kernels/msm_sat.clh compiled as C++) and device (sat_query.cl).
+#include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
 
 #include "kernels/msm_sat.clh"
@@ -229,6 +230,35 @@ cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue
     return last;
 }
 
+// Translucent layers (kernels/sat_translucent.cl): the composited texels into a scratch
+// buffer, then the prefix sums of ready texels.
+cl::Event enqueue_translucent_build(detail::ContextImpl& impl, const cl::CommandQueue& queue,
+                                    const std::vector<cl::Event>& waits, const cl::Buffer& depth,
+                                    const cl::Buffer& layer_depth, const cl::Buffer& layer_opacity, int layers,
+                                    const SatSource& what, int width, int height, const cl::Buffer& table,
+                                    SatKernel kernel) {
+    validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " texels");
+    cl::Buffer texels = scratch_buffer(impl, 4 * texel_count(width, height), "clCreateBuffer(sat translucent texels)");
+    cl::Kernel& composite = impl.kernel(
+        "sat_translucent.cl",
+        {"MSM_SAMPLES=" + std::to_string(what.samples), "MSM_LAYERS=" + std::to_string(layers),
+         "MSM_DEPTH_ZERO_ONE=" + std::string(what.depth_range == DepthRange::zero_one ? "1" : "0")},
+        "sat_translucent_texels");
+    detail::set_arg(composite, 0, depth);
+    detail::set_arg(composite, 1, layer_depth);
+    detail::set_arg(composite, 2, layer_opacity);
+    detail::set_arg(composite, 3, static_cast<cl_int>(width));
+    detail::set_arg(composite, 4, static_cast<cl_int>(height));
+    detail::set_arg(composite, 5, static_cast<cl_uint>(what.scale));
+    detail::set_arg(composite, 6, texels);
+    cl::Event composited;
+    launch(queue, composite, cl::NDRange(static_cast<std::size_t>(width), static_cast<std::size_t>(height)),
+           cl::NullRange, waits, composited, "clEnqueueNDRangeKernel(sat_translucent_texels)");
+    // The texels buffer is released here; OpenCL keeps it until the prefix sums are done.
+    return enqueue_build(impl, queue, {composited}, texels, SatSource{false, 1, DepthRange::zero_one, 0}, width, height,
+                         table, kernel);
+}
+
 // automatic: the GPU distribution on GPUs, the CPU one elsewhere.
 SatKernel resolve_kernel(const DeviceInfo& device, SatKernel kernel) {
     if (kernel != SatKernel::automatic) return kernel;
@@ -269,6 +299,11 @@ std::uint32_t sat_scale(std::uint32_t max_kernel_texels) {
 }
 
 SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& options) {
+    return build_sat(context, depth, std::vector<TranslucentLayer>{}, options);
+}
+
+SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<TranslucentLayer>& layers,
+                   const SatOptions& options) {
     // Validate everything before touching the device.
     validate_table_shape("sat: depth map", depth.width, depth.height);
     validate_samples(depth.samples);
@@ -279,10 +314,12 @@ SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& 
                           " values, got " + std::to_string(depth.depth.size()));
     const std::uint32_t scale = sat_scale(options.max_kernel_texels);
     validate_depth_values(depth, options.depth_range);
+    detail::validate_layers("sat", depth, layers, options.depth_range);
     detail::ContextImpl& impl = context.impl();
     validate_device_bytes(impl.info, values * sizeof(float), "the depth buffer");
+    validate_device_bytes(impl.info, layers.size() * values * sizeof(float), "the translucent layers");
 
-    // Upload, build on the Context's queue, read back.
+    // Upload (the layers one after the other), build on the Context's queue, read back.
     SatTable table;
     table.width = depth.width;
     table.height = depth.height;
@@ -297,8 +334,23 @@ SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& 
     cl::Buffer table_buffer(impl.context, CL_MEM_READ_WRITE, table_bytes, nullptr, &status);
     detail::check(status, "clCreateBuffer(sat table)");
     const SatSource source{true, depth.samples, options.depth_range, scale};
-    const cl::Event done = enqueue_build(impl, impl.queue, {}, depth_buffer, source, depth.width, depth.height,
-                                         table_buffer, resolve_kernel(impl.info, options.kernel));
+    const SatKernel kernel = resolve_kernel(impl.info, options.kernel);
+    cl::Event done;
+    if (layers.empty()) {
+        done = enqueue_build(impl, impl.queue, {}, depth_buffer, source, depth.width, depth.height, table_buffer, kernel);
+    } else {
+        std::vector<float> layer_depth = detail::concatenated_depths(layers);
+        std::vector<float> layer_opacity = detail::concatenated_opacities(layers);
+        cl::Buffer depth_layers(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, layer_depth.size() * sizeof(float),
+                                layer_depth.data(), &status);
+        detail::check(status, "clCreateBuffer(layer depth)");
+        cl::Buffer opacity_layers(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                  layer_opacity.size() * sizeof(float), layer_opacity.data(), &status);
+        detail::check(status, "clCreateBuffer(layer opacity)");
+        done = enqueue_translucent_build(impl, impl.queue, {}, depth_buffer, depth_layers, opacity_layers,
+                                         static_cast<int>(layers.size()), source, depth.width, depth.height,
+                                         table_buffer, kernel);
+    }
     const std::vector<cl::Event> after_build{done};
     detail::check(impl.queue.enqueueReadBuffer(table_buffer, CL_TRUE, 0, table_bytes, table.words.data(), &after_build),
                   "clEnqueueReadBuffer(sat table)");
@@ -307,16 +359,33 @@ SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& 
 
 void build_sat(Context& context, const DeviceDepth& depth, cl_mem table, const SatOptions& options,
                const Enqueue& enqueue) {
+    build_sat(context, depth, DeviceLayers{}, table, options, enqueue);
+}
+
+void build_sat(Context& context, const DeviceDepth& depth, const DeviceLayers& layers, cl_mem table,
+               const SatOptions& options, const Enqueue& enqueue) {
     validate_table_shape("sat: depth map", depth.width, depth.height);
     validate_samples(depth.samples);
+    detail::validate_layer_count("sat", layers.count);
     const std::uint32_t scale = sat_scale(options.max_kernel_texels);
-    require_buffer_bytes(depth.buffer, texel_count(depth.width, depth.height) * depth.samples * sizeof(float), "depth");
+    const cl_ulong depth_bytes = texel_count(depth.width, depth.height) * depth.samples * sizeof(float);
+    require_buffer_bytes(depth.buffer, depth_bytes, "depth");
     require_buffer_bytes(table, 16ull * texel_count(depth.width, depth.height), "table");
+    if (layers.count > 0) {
+        require_buffer_bytes(layers.depth, depth_bytes * static_cast<cl_ulong>(layers.count), "layer depth");
+        require_buffer_bytes(layers.opacity, depth_bytes * static_cast<cl_ulong>(layers.count), "layer opacity");
+    }
     detail::ContextImpl& impl = context.impl();
     const cl::CommandQueue queue = impl.queue_for(enqueue);
     const SatSource source{true, depth.samples, options.depth_range, scale};
-    const cl::Event last = enqueue_build(impl, queue, detail::wait_list(enqueue), cl::Buffer(depth.buffer, true), source,
-                                         depth.width, depth.height, cl::Buffer(table, true), resolve_kernel(impl.info, options.kernel));
+    const SatKernel kernel = resolve_kernel(impl.info, options.kernel);
+    const cl::Event last =
+        layers.count == 0
+            ? enqueue_build(impl, queue, detail::wait_list(enqueue), cl::Buffer(depth.buffer, true), source, depth.width,
+                            depth.height, cl::Buffer(table, true), kernel)
+            : enqueue_translucent_build(impl, queue, detail::wait_list(enqueue), cl::Buffer(depth.buffer, true),
+                                        cl::Buffer(layers.depth, true), cl::Buffer(layers.opacity, true), layers.count,
+                                        source, depth.width, depth.height, cl::Buffer(table, true), kernel);
     detail::complete(enqueue, queue, last);
 }
 

@@ -3,7 +3,9 @@
 
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
+#include <msmcl/shading.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -14,12 +16,13 @@ const char* lookup_name(Lookup lookup) noexcept {
     switch (lookup) {
         case Lookup::nearest: return "nearest";
         case Lookup::bilinear: return "bilinear";
+        case Lookup::dither: return "dither";
     }
     return "unknown";
 }
 
 std::optional<Lookup> parse_lookup(std::string_view name) noexcept {
-    for (Lookup l : {Lookup::nearest, Lookup::bilinear})
+    for (Lookup l : {Lookup::nearest, Lookup::bilinear, Lookup::dither})
         if (name == lookup_name(l)) return l;
     return std::nullopt;
 }
@@ -39,12 +42,22 @@ void check_map_shape(Format format, int width, int height, const detail::Context
 void check_options(const ShadeOptions& options) {
     if (!std::isfinite(options.depth_bias))
         throw input_error("shade: the depth bias must be finite");
+    if (options.lookup != Lookup::nearest && options.lookup != Lookup::bilinear && options.lookup != Lookup::dither)
+        throw input_error("shade: unknown lookup " + std::to_string(static_cast<int>(options.lookup)));
 }
+
+// Bytes of one blue-noise texture (64 x 64 texels, 2 channels).
+constexpr std::size_t blue_noise_texture_bytes = 64 * 64 * 2;
 
 } // namespace
 
 void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, std::size_t count,
            cl_mem intensity, const ShadeOptions& options, const Enqueue& enqueue) {
+    shade(context, map, receivers_uvz, nullptr, count, intensity, options, enqueue);
+}
+
+void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_mem receiver_pixels,
+           std::size_t count, cl_mem intensity, const ShadeOptions& options, const Enqueue& enqueue) {
     detail::ContextImpl& impl = context.impl();
     check_map_shape(map.format, map.width, map.height, impl);
     check_options(options);
@@ -53,13 +66,14 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, std
     if (count > std::numeric_limits<cl_uint>::max())
         throw input_error("shade: too many receivers in one call (" + std::to_string(count) + ")");
 
-    // Variant per format, lookup and depth convention.
-    cl::Kernel& kernel = impl.kernel(
-        "shade.cl",
-        {"MSM_FORMAT=" + std::to_string(static_cast<int>(map.format)),
-         "MSM_LOOKUP=" + std::to_string(static_cast<int>(options.lookup)),
-         std::string("MSM_DEPTH_ZERO_ONE=") + (options.depth_range == DepthRange::zero_one ? "1" : "0")},
-        "shade");
+    // Variant per format, lookup and depth convention (dither: and where pixels come from).
+    const bool dither = options.lookup == Lookup::dither;
+    std::vector<std::string> defines = {
+        "MSM_FORMAT=" + std::to_string(static_cast<int>(map.format)),
+        "MSM_LOOKUP=" + std::to_string(static_cast<int>(options.lookup)),
+        std::string("MSM_DEPTH_ZERO_ONE=") + (options.depth_range == DepthRange::zero_one ? "1" : "0")};
+    if (dither) defines.push_back(std::string("MSM_RECEIVER_PIXELS=") + (receiver_pixels ? "1" : "0"));
+    cl::Kernel& kernel = impl.kernel("shade.cl", defines, dither ? "shade_dither" : "shade");
     cl::CommandQueue queue = impl.queue_for(enqueue);
     std::vector<cl::Event> waits = detail::wait_list(enqueue);
     cl::Event done;
@@ -76,6 +90,22 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, std
     detail::set_arg(kernel, 4, static_cast<cl_uint>(count));
     detail::set_arg(kernel, 5, intensity);
     detail::set_arg(kernel, 6, options.depth_bias);
+    cl::Buffer noise_buffer;
+    if (dither) {
+        // The frame's blue-noise texture (8 KiB) and its shift; pixels given or row-major.
+        const BlueNoiseFrame frame = blue_noise_frame(options.frame);
+        cl_int status = CL_SUCCESS;
+        noise_buffer = cl::Buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, blue_noise_texture_bytes,
+                                  const_cast<std::uint8_t*>(blue_noise_textures() + frame.texture * blue_noise_texture_bytes),
+                                  &status);
+        detail::check(status, "clCreateBuffer(blue noise)");
+        const cl_uint screen_width = options.screen_width ? options.screen_width : static_cast<cl_uint>(std::max<std::size_t>(count, 1));
+        detail::set_arg(kernel, 7, noise_buffer());
+        detail::set_arg(kernel, 8, static_cast<cl_uint>(frame.offset_x));
+        detail::set_arg(kernel, 9, static_cast<cl_uint>(frame.offset_y));
+        detail::set_arg(kernel, 10, receiver_pixels);
+        detail::set_arg(kernel, 11, screen_width);
+    }
     // One work-item per receiver; groups of 64 (a multiple of every warp/wavefront width).
     const std::size_t group = 64;
     const std::size_t global = (count + group - 1) / group * group;
@@ -87,6 +117,11 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, std
 
 std::vector<float> shade(Context& context, const Texture& map, const Receivers& receivers,
                          const ShadeOptions& options) {
+    return shade(context, map, receivers, ReceiverPixels{}, options);
+}
+
+std::vector<float> shade(Context& context, const Texture& map, const Receivers& receivers,
+                         const ReceiverPixels& pixels, const ShadeOptions& options) {
     detail::ContextImpl& impl = context.impl();
     check_map_shape(map.format, map.width, map.height, impl);
     check_options(options);
@@ -104,6 +139,10 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
             throw input_error("shade: receiver " + std::to_string(i) + " is not finite (u " +
                               std::to_string(receivers.u[i]) + ", v " + std::to_string(receivers.v[i]) + ", z " +
                               std::to_string(receivers.z[i]) + ")");
+    const bool with_pixels = !pixels.x.empty() || !pixels.y.empty();
+    if (with_pixels && (pixels.x.size() != count || pixels.y.size() != count))
+        throw input_error("shade: " + std::to_string(count) + " receivers but " + std::to_string(pixels.x.size()) +
+                          " x and " + std::to_string(pixels.y.size()) + " y pixel coordinates");
     std::vector<float> result(count);
     if (count == 0) return result;
 
@@ -123,8 +162,19 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
     cl::Buffer result_buffer(impl.context, CL_MEM_WRITE_ONLY, count * sizeof(float), nullptr, &status);
     detail::check(status, "clCreateBuffer(intensity)");
 
-    shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height}, receiver_buffer(), count,
-          result_buffer(), options, Enqueue{});
+    cl::Buffer pixel_buffer;
+    if (with_pixels && options.lookup == Lookup::dither) {
+        // Screen pixels, planar x then y (only dither reads them).
+        std::vector<std::uint32_t> xy(2 * count);
+        std::copy(pixels.x.begin(), pixels.x.end(), xy.begin());
+        std::copy(pixels.y.begin(), pixels.y.end(), xy.begin() + count);
+        pixel_buffer = cl::Buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, xy.size() * sizeof(std::uint32_t),
+                                  xy.data(), &status);
+        detail::check(status, "clCreateBuffer(pixels)");
+    }
+
+    shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height}, receiver_buffer(), pixel_buffer(),
+          count, result_buffer(), options, Enqueue{});
     detail::check(impl.queue.enqueueReadBuffer(result_buffer, CL_TRUE, 0, count * sizeof(float), result.data()),
                   "clEnqueueReadBuffer(intensity)");
     return result;

@@ -88,12 +88,32 @@ float shade_texel(const Texture& map, int x, int y, float zf) {
     return 0.0f;
 }
 
+BlueNoiseFrame blue_noise_frame(std::uint32_t frame) {
+    const msm_blue_noise_frame f = msm_blue_noise_frame_of(frame);
+    return {f.texture, f.offset_x, f.offset_y};
+}
+
+DitherNoise blue_noise_at(std::uint32_t frame, std::uint32_t px, std::uint32_t py) {
+    const std::uint8_t* texel = blue_noise_textures() + 2 * std::size_t(msm_blue_noise_texel(msm_blue_noise_frame_of(frame), px, py));
+    return {msm_blue_noise_value(texel[0]), msm_blue_noise_value(texel[1])};
+}
+
 float shade_receiver(const Texture& map, float u, float v, float z, const ShadeOptions& options) {
+    return shade_receiver(map, u, v, z, 0, 0, options);
+}
+
+float shade_receiver(const Texture& map, float u, float v, float z, std::uint32_t px, std::uint32_t py,
+                     const ShadeOptions& options) {
     // Receiver depth: internal z of the declared range, minus the constant depth bias.
     float zf = msm_internal_depth(z, options.depth_range == DepthRange::zero_one) - options.depth_bias;
     // Nearest: texel floor(u), floor(v), clamped to the edge.
     if (options.lookup == Lookup::nearest)
         return shade_texel(map, msm_texel_index(u, map.width), msm_texel_index(v, map.height), zf);
+    // Dither: texel floor(u - 0.5 + n) with the pixel's blue noise in this frame, shaded alone.
+    if (options.lookup == Lookup::dither) {
+        const DitherNoise noise = blue_noise_at(options.frame, px, py);
+        return shade_texel(map, msm_dither_index(u, noise.x, map.width), msm_dither_index(v, noise.y, map.height), zf);
+    }
     // Bilinear: the four texels around (u - 0.5, v - 0.5), clamped to the edge.
     msm_bilinear_taps taps = msm_bilinear_taps_at(u, v, map.width, map.height);
     // moments128/msm64: blend the moments in float-float, then bias and shade once.

@@ -6,6 +6,7 @@
 #include <msmcl/formats.hpp>
 
 #include <array>
+#include <vector>
 
 namespace msmcl {
 
@@ -53,6 +54,43 @@ struct DeviceDepth {
 /// bytes, layout as Texture). No host copies. Depth values are not validated on the
 /// device: out-of-range values are clamped to the range, NaN counts as the near plane.
 void filter(Context& context, const DeviceDepth& depth, cl_mem texture,
+            const FilterOptions& options, const Enqueue& enqueue = {});
+
+// ---- Translucent occluders (SPEC section 7, seed 001 section 4).
+
+/// Most translucent layers one call composites.
+inline constexpr int max_translucent_layers = 8;
+
+/// A translucent layer over a depth map: for every sample of every texel a depth (as
+/// rendered, in the map's range) and an opacity in [0, 1], each laid out as
+/// DepthImage::depth (same width, height and samples). Opacity 0 where the layer has no
+/// surface. Per sample, the opaque surface (opacity 1) and the layers are alpha-blended
+/// nearest first, whatever the order of the layers: the texel stores the moments of
+/// sum_i prod_{j<i} (1 - a_j) a_i b(z_i) instead of b(z).
+struct TranslucentLayer {
+    std::vector<float> depth;
+    std::vector<float> opacity;
+};
+
+/// Filters a depth map with translucent layers (at most max_translucent_layers). Validates
+/// like filter() and also every layer's size, depths and opacities (input_error names the
+/// first bad one). No layers: exactly filter(context, depth, options); layers of opacity 0
+/// give the same bits as none.
+Texture filter(Context& context, const DepthImage& depth, const std::vector<TranslucentLayer>& layers,
+               const FilterOptions& options);
+
+/// Translucent layers already on the device: `depth` and `opacity` each hold
+/// count * width * height * samples floats, layer after layer, each layer laid out as
+/// DeviceDepth. count 0: no layers (the buffers may be null).
+struct DeviceLayers {
+    cl_mem depth = nullptr;
+    cl_mem opacity = nullptr;
+    int count = 0;
+};
+
+/// Device version. Values are not validated on the device: depths clamp to the range (NaN
+/// counts as the near plane), opacities clamp to [0, 1] (NaN counts as 0).
+void filter(Context& context, const DeviceDepth& depth, const DeviceLayers& layers, cl_mem texture,
             const FilterOptions& options, const Enqueue& enqueue = {});
 
 } // namespace msmcl

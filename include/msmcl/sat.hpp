@@ -81,6 +81,17 @@ SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& 
 void build_sat(Context& context, const DeviceDepth& depth, cl_mem table, const SatOptions& options,
                const Enqueue& enqueue = {});
 
+/// Tables of translucent shadow maps (SPEC section 7): each sample's surfaces composited as
+/// filter() composites them (TranslucentLayer), the texel the mean of the composited
+/// moments over its samples. Validates the layers like filter(). No layers: exactly
+/// build_sat(context, depth, options); layers of opacity 0 give the same bits as none.
+SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<TranslucentLayer>& layers,
+                   const SatOptions& options);
+/// Device version (DeviceLayers as for filter()); one more pass over the texels than an
+/// opaque table (composite and quantize, then the same prefix sums).
+void build_sat(Context& context, const DeviceDepth& depth, const DeviceLayers& layers, cl_mem table,
+               const SatOptions& options, const Enqueue& enqueue = {});
+
 /// The prefix sums alone, for callers that quantize their own texels: `texels` holds 4
 /// uint32 per texel (row-major), the result the wrapping 2D prefix sums.
 std::vector<std::uint32_t> sat_prefix_sums(Context& context, const std::vector<std::uint32_t>& texels, int width,

@@ -49,7 +49,24 @@ float nlq_shadow(const NlqTexel& texel, float zf);
 /// applied), the device's per-texel shading.
 float shade_texel(const Texture& map, int x, int y, float zf);
 /// The whole lookup of the `shade` kernel for one receiver (u, v in texels, z as
-/// rendered), on the host.
+/// rendered), on the host. A dithered lookup counts the receiver as screen pixel (0, 0).
 float shade_receiver(const Texture& map, float u, float v, float z, const ShadeOptions& options);
+/// The same for a receiver at screen pixel (px, py) (what dither indexes the blue noise by).
+float shade_receiver(const Texture& map, float u, float v, float z, std::uint32_t px, std::uint32_t py,
+                     const ShadeOptions& options);
+
+/// The blue-noise texture and shift of a frame (kernels/msm_bluenoise.clh).
+struct BlueNoiseFrame {
+    std::uint32_t texture = 0;  ///< 0..63
+    std::uint32_t offset_x = 0; ///< 0..63
+    std::uint32_t offset_y = 0; ///< 0..63
+};
+BlueNoiseFrame blue_noise_frame(std::uint32_t frame);
+/// Dither offsets in (0, 1) of screen pixel (px, py) in `frame` (from blue_noise_textures()).
+struct DitherNoise {
+    float x = 0.5f;
+    float y = 0.5f;
+};
+DitherNoise blue_noise_at(std::uint32_t frame, std::uint32_t px, std::uint32_t py);
 
 } // namespace msmcl

@@ -1,0 +1,60 @@
+// Validation and device layout of translucent layers (shared by filter and sat).
+#include "ops/translucent_layers.hpp"
+
+#include <msmcl/errors.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace msmcl::detail {
+
+void validate_layer_count(const std::string& call, int count) {
+    if (count < 0 || count > max_translucent_layers)
+        throw input_error(call + ": " + std::to_string(count) + " translucent layers (at most " +
+                          std::to_string(max_translucent_layers) + ")");
+}
+
+void validate_layers(const std::string& call, const DepthImage& depth, const std::vector<TranslucentLayer>& layers,
+                     DepthRange range) {
+    validate_layer_count(call, static_cast<int>(layers.size()));
+    const std::size_t values = depth.depth.size();
+    const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
+    for (std::size_t k = 0; k < layers.size(); ++k) {
+        const TranslucentLayer& layer = layers[k];
+        if (layer.depth.size() != values || layer.opacity.size() != values)
+            throw input_error(call + ": translucent layer " + std::to_string(k) + " holds " +
+                              std::to_string(layer.depth.size()) + " depths and " +
+                              std::to_string(layer.opacity.size()) + " opacities, the depth map needs " +
+                              std::to_string(values) + " of each");
+        for (std::size_t i = 0; i < values; ++i) {
+            const float d = layer.depth[i], a = layer.opacity[i];
+            const bool depth_ok = std::isfinite(d) && d >= lowest && d <= 1.0f;
+            const bool opacity_ok = a >= 0.0f && a <= 1.0f;
+            if (depth_ok && opacity_ok) continue;
+            // The first bad value: the depth if that is bad, else the opacity.
+            const std::size_t texel = i / depth.samples;
+            std::ostringstream text;
+            text << call << ": translucent layer " << k << (depth_ok ? " opacity" : " depth") << " at texel ("
+                 << texel % depth.width << ", " << texel / depth.width << ") sample " << i % depth.samples << " is "
+                 << (depth_ok ? a : d);
+            if (depth_ok) text << ", outside [0, 1]";
+            else if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
+            throw input_error(text.str());
+        }
+    }
+}
+
+std::vector<float> concatenated_depths(const std::vector<TranslucentLayer>& layers) {
+    std::vector<float> values;
+    for (const TranslucentLayer& layer : layers) values.insert(values.end(), layer.depth.begin(), layer.depth.end());
+    return values;
+}
+
+std::vector<float> concatenated_opacities(const std::vector<TranslucentLayer>& layers) {
+    std::vector<float> values;
+    for (const TranslucentLayer& layer : layers)
+        values.insert(values.end(), layer.opacity.begin(), layer.opacity.end());
+    return values;
+}
+
+} // namespace msmcl::detail

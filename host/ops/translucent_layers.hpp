@@ -1,0 +1,24 @@
+// Translucent layers as filter() and build_sat() take them (include/msmcl/filter.hpp):
+// validation and the device layout (layer after layer).
+#pragma once
+
+#include <msmcl/filter.hpp>
+
+#include <string>
+#include <vector>
+
+namespace msmcl::detail {
+
+/// input_error "<call>: N translucent layers (at most 8)" unless 0 <= count <= max.
+void validate_layer_count(const std::string& call, int count);
+
+/// Every layer as large as the depth map, every depth finite and in the range, every
+/// opacity in [0, 1]; input_error names the first bad value by layer, texel and sample.
+void validate_layers(const std::string& call, const DepthImage& depth, const std::vector<TranslucentLayer>& layers,
+                     DepthRange range);
+
+/// The layers' depths (or opacities) one layer after the other, as DeviceLayers holds them.
+std::vector<float> concatenated_depths(const std::vector<TranslucentLayer>& layers);
+std::vector<float> concatenated_opacities(const std::vector<TranslucentLayer>& layers);
+
+} // namespace msmcl::detail

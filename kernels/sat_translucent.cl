@@ -1,0 +1,31 @@
+// Summed-area tables of translucent shadow maps (SPEC sections 5 and 7): the integer texels
+// of a depth map with translucent layers, for the prefix sums of sat_build*.cl
+// (MSM_SAT_SOURCE 1). Per texel: each sample's surfaces composited (msm_translucent.clh),
+// the mean over the samples, quantized as msm_sat_texel_of_depth quantizes opaque texels.
+// Compile-time: MSM_SAMPLES, MSM_DEPTH_ZERO_ONE, MSM_LAYERS (1..MSM_MAX_LAYERS).
+// Layers: layer k, texel t, sample s at [(k * width * height + t) * MSM_SAMPLES + s] of
+// `layer_depth` (as rendered) and `layer_opacity`.
+#include "msm_sat.clh"
+#include "msm_translucent.clh"
+
+__kernel void sat_translucent_texels(__global const float* depth, __global const float* layer_depth,
+                                     __global const float* layer_opacity, int width, int height, uint scale,
+                                     __global uint* texels) {
+    const int x = (int)get_global_id(0);
+    const int y = (int)get_global_id(1);
+    if (x >= width || y >= height) return;
+    const size_t texel = (size_t)y * width + x;
+    const size_t layer_stride = (size_t)width * height * MSM_SAMPLES;
+
+    // Mean over the samples of the composited moments (summed from sample 0 up, times 1/S, as
+    // msm_sat_texel_of_depth averages b(z)).
+    __global const float* first = depth + texel * MSM_SAMPLES;
+    __global const float* first_z = layer_depth + texel * MSM_SAMPLES;
+    __global const float* first_a = layer_opacity + texel * MSM_SAMPLES;
+    msm_moments sum = msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, 0, MSM_DEPTH_ZERO_ONE, 0.0f);
+    for (int s = 1; s < MSM_SAMPLES; ++s)
+        sum = msm_moments_add(sum, msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, s,
+                                                          MSM_DEPTH_ZERO_ONE, 0.0f));
+    const msm_sat_sum t = msm_sat_texel_of_moments(msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES), scale);
+    vstore4((uint4)(t.c0, t.c1, t.c2, t.c3), texel, texels);
+}
