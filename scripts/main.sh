@@ -12,7 +12,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 
 # Build the CLI and the sample-data tools; generate the larger sample scenes (1024^2).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-scatter-scene
+cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-scatter-scene
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
 tools=$build/data
@@ -58,6 +58,28 @@ for entry in "${scenes[@]}"; do
     "$tools/msmcl-preview" "$out/${name}_soft_shadow.exr" "$out/${name}_soft.png" --black 1 --white 0
   fi
 done
+
+# Blue-noise dithering of nlq64 seen magnified (256^2 map, 640x480 view): nearest | bilinear | dither | mean of 64 frames.
+"$tools/msmcl-scene" --width 256 --samples 4 --depth "$out/railing_256_depth.exr" \
+  --view-width 640 --view-height 480 --receivers "$out/railing_256_view_640x480.exr" \
+  --lighting "$out/railing_256_view_640x480_lighting.exr"
+"$msmcl" filter "$out/railing_256_depth.exr" "$out/railing_256_closeup_nlq64.exr" --format nlq64
+"$tools/msmcl-lookup-preview" "$out/railing_256_closeup_nlq64.exr" "$out/railing_256_view_640x480.exr" \
+  "$out/railing_256_nlq64_lookups.png" --lighting "$out/railing_256_view_640x480_lighting.exr" \
+  --crop 200,150,240,160 --zoom 2 --frames 64
+# Translucent occluders: a smoke plume (8 planes facing the light) in front of the banner.
+"$tools/msmcl-scene" --width 1024 --samples 4 --smoke 8 --depth "$out/smoke_1024x1024_4x.exr" \
+  --view-width 640 --view-height 480 --receivers "$out/smoke_view_640x480.exr" \
+  --lighting "$out/smoke_view_640x480_lighting.exr" --hard-preview "$out/smoke_1024_hard.png"
+for format in moments128 nlq64; do
+  "$msmcl" filter "$out/smoke_1024x1024_4x.exr" "$out/smoke_1024_${format}.exr" --format "$format"
+  "$msmcl" shade "$out/smoke_1024_${format}.exr" "$out/smoke_view_640x480.exr" "$out/smoke_1024_${format}_shadow.exr"
+  "$tools/msmcl-preview" "$out/smoke_1024_${format}_shadow.exr" "$out/smoke_1024_${format}.png" \
+    --lighting "$out/smoke_view_640x480_lighting.exr"
+done
+"$msmcl" sat "$out/smoke_1024x1024_4x.exr" "$out/smoke_1024_sat.exr" --max-kernel 4096
+"$msmcl" soft "$out/smoke_1024_sat.exr" "$out/smoke_view_640x480.exr" "$out/smoke_1024_soft_shadow.exr" --light-size 60 --depth-bias 0.02
+"$tools/msmcl-preview" "$out/smoke_1024_soft_shadow.exr" "$out/smoke_1024_soft.png" --lighting "$out/smoke_view_640x480_lighting.exr"
 
 # Single scattering: light shafts through the openings of two sample scenes, from the
 # prefiltered 4- and 6-moment maps, and 128-sample ray marching of the hard shadow map.
