@@ -20,6 +20,8 @@
 
 namespace ref = msmcl::reference;
 
+#include "seeded_test.hpp"
+
 namespace {
 
 using Long = long double;
@@ -27,31 +29,13 @@ using Long = long double;
 const Long u = std::ldexp(1.0L, -24);
 const Long u2 = u * u;
 
-// Fixed default seed, printed; MSMCL_TEST_SEED overrides.
-std::uint64_t test_seed() {
-    static const std::uint64_t seed = [] {
-        const char* env = std::getenv("MSMCL_TEST_SEED");
-        std::uint64_t value = env ? std::strtoull(env, nullptr, 0) : 20170731u;
-        std::printf("math_df_test: MSMCL_TEST_SEED=%llu\n", static_cast<unsigned long long>(value));
-        return value;
-    }();
-    return seed;
-}
-
 Long value(msm_df a) { return static_cast<Long>(a.hi) + static_cast<Long>(a.lo); }
 
 // hi is the float nearest to hi + lo.
 bool normalized(msm_df a) { return static_cast<float>(value(a)) == a.hi; }
 
-class MathDf : public ::testing::Test {
+class MathDf : public msmcl::testing::SeededTest {
 protected:
-    void SetUp() override {
-        seed_ = test_seed();
-        RecordProperty("seed", std::to_string(seed_));
-        rng_.seed(seed_ ^ std::hash<std::string>{}(
-                              ::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    }
-    double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
     // A float of either sign with a binary exponent in [-e, e].
     float random_float(int e) {
         float f = static_cast<float>(std::ldexp(uniform(1.0, 2.0), static_cast<int>(uniform(-e, e + 1))));
@@ -71,8 +55,6 @@ protected:
         b.lo = static_cast<float>(uniform(-0.99, 0.99) * 0.5 * std::ldexp(1.0, std::ilogb(b.hi) - 23));
         return b;
     }
-    std::uint64_t seed_ = 0;
-    std::mt19937_64 rng_;
 };
 
 } // namespace

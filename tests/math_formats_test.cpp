@@ -16,30 +16,14 @@
 #include <random>
 #include <string>
 
+#include "seeded_test.hpp"
+
 namespace ref = msmcl::reference;
 
 namespace {
 
-// Fixed default seed, printed; MSMCL_TEST_SEED overrides.
-std::uint64_t test_seed() {
-    static const std::uint64_t seed = [] {
-        const char* env = std::getenv("MSMCL_TEST_SEED");
-        std::uint64_t value = env ? std::strtoull(env, nullptr, 0) : 20170731u;
-        std::printf("math_formats_test: MSMCL_TEST_SEED=%llu\n", static_cast<unsigned long long>(value));
-        return value;
-    }();
-    return seed;
-}
-
-class MathFormats : public ::testing::Test {
+class MathFormats : public msmcl::testing::SeededTest {
 protected:
-    void SetUp() override {
-        seed_ = test_seed();
-        RecordProperty("seed", std::to_string(seed_));
-        rng_.seed(seed_ ^ std::hash<std::string>{}(
-                              ::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    }
-    double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
     // A texel as Algorithm 2 produces it: y1 <= y2 in [-1,1], v2 in [0,1], xi4 over its range.
     msm_nlq random_texel() {
         float a = static_cast<float>(uniform(-1.0, 1.0)), b = static_cast<float>(uniform(-1.0, 1.0));
@@ -60,8 +44,6 @@ protected:
         }
         return ref::moments_of(d);
     }
-    std::uint64_t seed_ = 0;
-    std::mt19937_64 rng_;
 };
 
 msm_nlq texel(float y1, float y2, float v2, float xi4) {

@@ -18,30 +18,14 @@
 #include <random>
 #include <string>
 
+#include "seeded_test.hpp"
+
 namespace ref = msmcl::reference;
 
 namespace {
 
-// Fixed default seed, printed; MSMCL_TEST_SEED overrides.
-std::uint64_t test_seed() {
-    static const std::uint64_t seed = [] {
-        const char* env = std::getenv("MSMCL_TEST_SEED");
-        std::uint64_t value = env ? std::strtoull(env, nullptr, 0) : 20170731u;
-        std::printf("math_hamburger_test: MSMCL_TEST_SEED=%llu\n", static_cast<unsigned long long>(value));
-        return value;
-    }();
-    return seed;
-}
-
-class MathHamburger : public ::testing::Test {
+class MathHamburger : public msmcl::testing::SeededTest {
 protected:
-    void SetUp() override {
-        seed_ = test_seed();
-        RecordProperty("seed", std::to_string(seed_));
-        rng_.seed(seed_ ^ std::hash<std::string>{}(
-                              ::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    }
-    double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
     ref::Distribution random_distribution(int k) {
         ref::Distribution d;
         for (int i = 0; i < k; ++i) {
@@ -50,8 +34,6 @@ protected:
         }
         return d;
     }
-    std::uint64_t seed_ = 0;
-    std::mt19937_64 rng_;
 };
 
 msm_moments to_float(const ref::Moments& m) {

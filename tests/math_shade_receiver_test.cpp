@@ -20,18 +20,10 @@
 namespace ref = msmcl::reference;
 using msmcl::Format;
 
+#include "seeded_test.hpp"
+
 namespace {
 
-// Fixed default seed, printed; MSMCL_TEST_SEED overrides.
-std::uint64_t test_seed() {
-    static const std::uint64_t seed = [] {
-        const char* env = std::getenv("MSMCL_TEST_SEED");
-        std::uint64_t value = env ? std::strtoull(env, nullptr, 0) : 20170731u;
-        std::printf("math_shade_receiver_test: MSMCL_TEST_SEED=%llu\n", static_cast<unsigned long long>(value));
-        return value;
-    }();
-    return seed;
-}
 
 const Format all_formats[] = {Format::moments128, Format::msm64, Format::nlq64, Format::nlq32};
 
@@ -181,7 +173,7 @@ TEST(MathShadeReceiver, DepthRangeAndBias) {
 // Per texel, each format against the double reference of what the texel stores (same
 // envelope reasoning as math_nlq_test / math_hamburger_test: zf +-1e-4, b4 +-1e-6, 1e-4).
 TEST(MathShadeReceiver, TexelShadingMatchesReference) {
-    const std::uint64_t seed = test_seed();
+    const std::uint64_t seed = msmcl::testing::run_seed();
     SCOPED_TRACE("seed " + std::to_string(seed));
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
