@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "seeded_test.hpp"
+
 namespace {
 
 namespace ref = msmcl::reference;
@@ -36,30 +38,7 @@ using msmcl::DepthRange;
 using msmcl::SatKernel;
 using msmcl::SatTable;
 
-std::uint32_t test_seed() {
-    const char* env = std::getenv("MSMCL_TEST_SEED");
-    const std::uint32_t seed = env ? static_cast<std::uint32_t>(std::strtoul(env, nullptr, 10)) : 20160227u;
-    std::printf("sat_test seed %u (set MSMCL_TEST_SEED to change)\n", seed);
-    return seed;
-}
-
-class SatTest : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        seed_ = test_seed();
-        if (msmcl::list_devices().empty()) return;
-        context_ = std::make_unique<msmcl::Context>();
-    }
-    static void TearDownTestSuite() { context_.reset(); }
-    void SetUp() override {
-        if (!context_) GTEST_SKIP() << "no OpenCL device";
-    }
-    static msmcl::Context& context() { return *context_; }
-    static std::unique_ptr<msmcl::Context> context_;
-    static std::uint32_t seed_;
-};
-std::unique_ptr<msmcl::Context> SatTest::context_;
-std::uint32_t SatTest::seed_ = 0;
+class SatTest : public msmcl::testing::DeviceSuite<SatTest> {};
 
 // Random integer texels in [0, max_value].
 ref::SatTexels random_texels(int width, int height, std::uint32_t max_value, std::mt19937& rng) {
@@ -130,7 +109,7 @@ TEST(SatMath, ScaleIsFloorOfMaxOverN) {
 TEST(SatMath, QuantizeRoundsWithinHalfAUnitAndNeverExceedsScale) {
     // msm_sat_quantize(m, scale): one float32 fma, so |q - m scale| <= 1/2 + 2^-24 m scale
     // (exact arithmetic in long double), q <= scale, monotonic in m; NaN and m <= 0 give 0.
-    std::mt19937 rng(test_seed());
+    std::mt19937 rng(static_cast<std::uint32_t>(msmcl::testing::run_seed(20160227u)));
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     const std::uint32_t scales[] = {2u, 5891588u, 65535u, 0x7fffffffu, 1u << 24, 3u};
     std::vector<float> values = {0.0f, 1.0f, 0.5f, 1e-30f, 1e-45f, std::nextafter(1.0f, 0.0f), 0.25f, 0.75f};
@@ -158,7 +137,7 @@ TEST(SatMath, QuantizeRoundsWithinHalfAUnitAndNeverExceedsScale) {
 
 TEST(SatMath, AffineBasisRoundTripsAndMatchesReference) {
     // msm_sat_basis_of / msm_sat_moments_of_basis against the reference msm64 affine map.
-    std::mt19937 rng(test_seed());
+    std::mt19937 rng(static_cast<std::uint32_t>(msmcl::testing::run_seed(20160227u)));
     std::uniform_real_distribution<double> depth(-1.0, 1.0);
     for (int i = 0; i < 1000; ++i) {
         const double z = depth(rng);

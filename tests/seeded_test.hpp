@@ -40,3 +40,31 @@ protected:
 };
 
 } // namespace msmcl::testing
+
+#include <msmcl/context.hpp>
+
+#include <memory>
+
+namespace msmcl::testing {
+
+/// A suite sharing one msmcl::Context on the default device (built once per suite, as
+/// PoCL compiles programs per context); every test skips where there is no device.
+/// `Suite` is the deriving fixture, so that each suite has its own context.
+template <class Suite>
+class DeviceSuite : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        seed_ = static_cast<std::uint32_t>(run_seed(20160227u));
+        if (msmcl::list_devices().empty()) return;
+        context_ = std::make_unique<msmcl::Context>();
+    }
+    static void TearDownTestSuite() { context_.reset(); }
+    void SetUp() override {
+        if (!context_) GTEST_SKIP() << "no OpenCL device";
+    }
+    static msmcl::Context& context() { return *context_; }
+    static inline std::unique_ptr<msmcl::Context> context_;
+    static inline std::uint32_t seed_ = 0;
+};
+
+} // namespace msmcl::testing

@@ -32,6 +32,8 @@
 #define MSMCL_CLI_PATH ""
 #endif
 
+#include "seeded_test.hpp"
+
 namespace {
 
 namespace ref = msmcl::reference;
@@ -40,30 +42,7 @@ using msmcl::DepthRange;
 using msmcl::SatTable;
 using msmcl::SoftShadowOptions;
 
-std::uint32_t test_seed() {
-    const char* env = std::getenv("MSMCL_TEST_SEED");
-    const std::uint32_t seed = env ? static_cast<std::uint32_t>(std::strtoul(env, nullptr, 10)) : 20160227u;
-    std::printf("soft_test seed %u (set MSMCL_TEST_SEED to change)\n", seed);
-    return seed;
-}
-
-class SoftTest : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        seed_ = test_seed();
-        if (msmcl::list_devices().empty()) return;
-        context_ = std::make_unique<msmcl::Context>();
-    }
-    static void TearDownTestSuite() { context_.reset(); }
-    void SetUp() override {
-        if (!context_) GTEST_SKIP() << "no OpenCL device";
-    }
-    static msmcl::Context& context() { return *context_; }
-    static std::unique_ptr<msmcl::Context> context_;
-    static std::uint32_t seed_;
-};
-std::unique_ptr<msmcl::Context> SoftTest::context_;
-std::uint32_t SoftTest::seed_ = 0;
+class SoftTest : public msmcl::testing::DeviceSuite<SoftTest> {};
 
 constexpr std::uint32_t kMaxKernel = 27 * 27;
 
