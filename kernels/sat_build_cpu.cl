@@ -1,23 +1,25 @@
-// Summed-area table for CPU devices: the tiled scan of sat_build.cl (same steps, same carry
-// kernels in sat_carries.cl, same bits) distributed for a CPU. PoCL vectorizes scalar code
-// across work-items only inside one stretch between barriers, and a scan needs values to
-// cross lanes; here each work-item owns one tile of 16 columns x MSM_SAT_TILE_H rows held
-// in 16-lane vectors, so no barrier or local memory is needed at all:
-//   column walks: a running uint16 per channel (one add per texel),
-//   row scans:    4 shuffle-and-add steps across the 16 lanes, plus the left carry,
+// Summed-area table for CPU devices: the same table as sat_build.cl (same bits), distributed
+// for a CPU. PoCL vectorizes scalar code across work-items only inside one stretch between
+// barriers, and a scan needs values to cross lanes; here each work-item owns one band of
+// MSM_SAT_BAND_H full rows and walks it left to right, 16 columns at a time in 16-lane
+// vectors, so no barrier or local memory is needed and every row is read front to back:
+//   column walks: a running uint16 per channel and column chunk (one add per texel),
+//   row scans:    4 shuffle-and-add steps across the 16 lanes, plus the row's left carry
+//                 (the last lane of the chunk before, kept per row of the band),
 //   layout:       16 texels are 16 * S contiguous depths (or 64 contiguous words): loaded
 //                 with vload16 and de-interleaved by log2(S) levels of shuffles; the output
 //                 row is re-interleaved to R,G,B,A words and stored with 4 vstore16.
-// Work per texel is constant (one vertical add, four lane steps), every input read twice
-// (totals, then scan) and the table written once, as in sat_build.cl.
+// Three steps: band totals (the column sums of each band), the carries down the bands
+// (sat_column_carries in sat_carries.cl), the band scan. Every input is read twice and the
+// table written once; no carries across columns are needed, as a band spans the width.
 // The vector arithmetic mirrors msm_sat_texel_of_depth (msm_sat.clh) operation by
 // operation, so both builds give identical bits (tests/sat_test.cpp checks it).
 // Compile-time: MSM_SAT_SOURCE (0 depth with MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; 1 texels),
-// MSM_SAT_TILE_H (rows per tile).
+// MSM_SAT_BAND_H (rows per band).
 #include "msm_sat.clh"
 
 #define LANES 16
-#define TILE_H MSM_SAT_TILE_H
+#define BAND_H MSM_SAT_BAND_H
 
 // Lane masks of shuffle2 over the 32 lanes (a, b).
 #define MASK_EVEN (uint16)(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30)
@@ -135,7 +137,7 @@ static inline texels16 full_texels16(__global const float* depth, size_t first, 
     return t;
 }
 
-// One texel on its own (tiles that cross the right edge).
+// One texel on its own (chunks that cross the right edge).
 static inline msm_sat_sum single_texel(__global const float* depth, size_t texel, uint scale) {
     return msm_sat_texel_of_depth(depth, texel, MSM_SAMPLES, MSM_DEPTH_ZERO_ONE, scale);
 }
@@ -158,7 +160,7 @@ static inline msm_sat_sum single_texel(__global const uint* texels, size_t texel
 }
 #endif
 
-// Row y of the tile at x0: the 16 texels, zero beyond the map.
+// Row y of the chunk at x0: the 16 texels, zero beyond the map.
 static inline texels16 row_texels16(__global const SOURCE_TYPE* source, int width, int height, int x0, int y,
                                     uint scale) {
     if (y >= height) return zero_texels16();
@@ -182,13 +184,6 @@ static inline texels16 row_texels16(__global const SOURCE_TYPE* source, int widt
     return t;
 }
 
-static inline uint sum_lanes(uint16 v) {
-    const uint8 a = v.lo + v.hi;
-    const uint4 b = a.lo + a.hi;
-    const uint2 c = b.lo + b.hi;
-    return c.lo + c.hi;
-}
-
 // Inclusive prefix sums across the 16 lanes: 4 shift-and-add steps.
 static inline uint16 lane_prefix(uint16 v) {
     const uint16 zero = (uint16)(0u);
@@ -199,88 +194,81 @@ static inline uint16 lane_prefix(uint16 v) {
     return v;
 }
 
-// Step 1: one work-item per tile (global size tiles_x x tiles_y). Layouts as sat_carries.cl
-// with tile width 16 and height TILE_H.
-__kernel void sat_tile_totals_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
-                                  __global uint* column_totals, __global uint* row_totals,
-                                  __global uint* tile_totals) {
-    const size_t tx = get_global_id(0), ty = get_global_id(1);
-    const size_t tiles_x = get_global_size(0), tiles_y = get_global_size(1);
-    const int x0 = (int)tx * LANES, y0 = (int)ty * TILE_H;
-    const size_t padded_height = tiles_y * TILE_H;
-    texels16 column = zero_texels16();
-    uint t0 = 0u, t1 = 0u, t2 = 0u, t3 = 0u;
-    for (int r = 0; r < TILE_H; ++r) {
-        const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
-        column.c0 += t.c0;
-        column.c1 += t.c1;
-        column.c2 += t.c2;
-        column.c3 += t.c3;
-        const uint r0 = sum_lanes(t.c0), r1 = sum_lanes(t.c1), r2 = sum_lanes(t.c2), r3 = sum_lanes(t.c3);
-        __global uint* row = row_totals + 4 * (tx * padded_height + (size_t)(y0 + r));
-        row[0] = r0;
-        row[1] = r1;
-        row[2] = r2;
-        row[3] = r3;
-        t0 += r0;
-        t1 += r1;
-        t2 += r2;
-        t3 += r3;
+// The 64 words of 16 texels into row y of the table at x0, only the texels inside the map.
+static inline void store_row(texels16 out, __global uint* table, int width, int x0, int y) {
+    __global uint* words = table + 4 * ((size_t)y * (size_t)width + (size_t)x0);
+    if (x0 + LANES <= width) {
+        store_interleaved(out, words);
+        return;
     }
-    store_interleaved(column, column_totals + 4 * (ty * tiles_x * LANES + (size_t)x0));
-    __global uint* tile = tile_totals + 4 * (ty * tiles_x + tx);
-    tile[0] = t0;
-    tile[1] = t1;
-    tile[2] = t2;
-    tile[3] = t3;
+    uint lanes[4 * LANES];
+    vstore16(out.c0, 0, lanes);
+    vstore16(out.c1, 1, lanes);
+    vstore16(out.c2, 2, lanes);
+    vstore16(out.c3, 3, lanes);
+    for (int i = 0; i < width - x0; ++i) {
+        words[4 * i + 0] = lanes[i];
+        words[4 * i + 1] = lanes[LANES + i];
+        words[4 * i + 2] = lanes[2 * LANES + i];
+        words[4 * i + 3] = lanes[3 * LANES + i];
+    }
 }
 
-// Step 3: one work-item per tile: column walks from the column carries, lane scans from
-// the left carries, one write per texel.
-__kernel void sat_tile_scan_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
-                                __global const uint* column_carries, __global const uint* row_carries,
-                                __global const uint* corner_carries, __global uint* table) {
-    const size_t tx = get_global_id(0), ty = get_global_id(1);
-    const size_t tiles_x = get_global_size(0), tiles_y = get_global_size(1);
-    const int x0 = (int)tx * LANES, y0 = (int)ty * TILE_H;
-    const size_t padded_height = tiles_y * TILE_H;
-    texels16 column = deinterleave_words(column_carries + 4 * (ty * tiles_x * LANES + (size_t)x0));
-    __global const uint* corner = corner_carries + 4 * (ty * tiles_x + tx);
-    uint e0 = corner[0], e1 = corner[1], e2 = corner[2], e3 = corner[3];
-    for (int r = 0; r < TILE_H; ++r) {
-        const int y = y0 + r;
-        if (y >= height) break;
-        const texels16 t = row_texels16(source, width, height, x0, y, scale);
-        column.c0 += t.c0;
-        column.c1 += t.c1;
-        column.c2 += t.c2;
-        column.c3 += t.c3;
-        // The table just left of the tile in this row.
-        __global const uint* left = row_carries + 4 * (tx * padded_height + (size_t)y);
-        e0 += left[0];
-        e1 += left[1];
-        e2 += left[2];
-        e3 += left[3];
-        texels16 out;
-        out.c0 = lane_prefix(column.c0) + e0;
-        out.c1 = lane_prefix(column.c1) + e1;
-        out.c2 = lane_prefix(column.c2) + e2;
-        out.c3 = lane_prefix(column.c3) + e3;
-        __global uint* words = table + 4 * ((size_t)y * (size_t)width + (size_t)x0);
-        if (x0 + LANES <= width) {
-            store_interleaved(out, words);
-        } else {
-            uint lanes[4 * LANES];
-            vstore16(out.c0, 0, lanes);
-            vstore16(out.c1, 1, lanes);
-            vstore16(out.c2, 2, lanes);
-            vstore16(out.c3, 3, lanes);
-            for (int i = 0; i < width - x0; ++i) {
-                words[4 * i + 0] = lanes[i];
-                words[4 * i + 1] = lanes[LANES + i];
-                words[4 * i + 2] = lanes[2 * LANES + i];
-                words[4 * i + 3] = lanes[3 * LANES + i];
-            }
+// Step 1: one work-item per band (global size = bands): the sums of each column over the
+// band's rows, 4 words per column, at band_totals[band * padded_width + x] (padded_width =
+// chunks * 16; rows and columns beyond the map count as zero).
+__kernel void sat_band_totals_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
+                                  __global uint* band_totals) {
+    const int band = (int)get_global_id(0);
+    const int y0 = band * BAND_H;
+    const int chunks = (width + LANES - 1) / LANES;
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+        const int x0 = chunk * LANES;
+        // Down the band's rows of this chunk: BAND_H read streams advancing together.
+        texels16 column = zero_texels16();
+        for (int r = 0; r < BAND_H; ++r) {
+            const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
+            column.c0 += t.c0;
+            column.c1 += t.c1;
+            column.c2 += t.c2;
+            column.c3 += t.c3;
+        }
+        store_interleaved(column, band_totals + 4 * ((size_t)band * (size_t)chunks * LANES + (size_t)x0));
+    }
+}
+
+// Step 3: one work-item per band, chunk by chunk from the left: column walks from the
+// band's column carries (the sums of every row above the band), lane scans plus each row's
+// left carry, one write per texel.
+__kernel void sat_band_scan_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
+                                __global const uint* column_carries, __global uint* table) {
+    const int band = (int)get_global_id(0);
+    const int y0 = band * BAND_H;
+    const int rows = min(BAND_H, height - y0);
+    const int chunks = (width + LANES - 1) / LANES;
+    // The table just left of the current chunk, per row of the band and channel.
+    uint left[4 * BAND_H];
+    for (int i = 0; i < 4 * BAND_H; ++i) left[i] = 0u;
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+        const int x0 = chunk * LANES;
+        texels16 column =
+            deinterleave_words(column_carries + 4 * ((size_t)band * (size_t)chunks * LANES + (size_t)x0));
+        for (int r = 0; r < rows; ++r) {
+            const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
+            column.c0 += t.c0;
+            column.c1 += t.c1;
+            column.c2 += t.c2;
+            column.c3 += t.c3;
+            texels16 out;
+            out.c0 = lane_prefix(column.c0) + left[4 * r + 0];
+            out.c1 = lane_prefix(column.c1) + left[4 * r + 1];
+            out.c2 = lane_prefix(column.c2) + left[4 * r + 2];
+            out.c3 = lane_prefix(column.c3) + left[4 * r + 3];
+            left[4 * r + 0] = out.c0.sf;
+            left[4 * r + 1] = out.c1.sf;
+            left[4 * r + 2] = out.c2.sf;
+            left[4 * r + 3] = out.c3.sf;
+            store_row(out, table, width, x0, y0 + r);
         }
     }
 }

@@ -21,19 +21,13 @@ namespace {
 // Largest width or height accepted (as filter).
 constexpr int kMaxDimension = 65536;
 
-// The two distributions of the tiled scan: kernels/sat_build.cl (GPU: 32x32 tiles in local
-// memory, one work-item per tile column) and kernels/sat_build_cpu.cl (CPU: one work-item
-// per 16 x 64 tile in 16-lane vectors). Both use kernels/sat_carries.cl in between.
-struct TiledScan {
-    int tile_width;
-    int tile_height;
-    const char* file;
-    const char* totals_kernel;
-    const char* scan_kernel;
-    bool item_per_tile; ///< CPU: one work-item per tile; GPU: tile_width work-items per tile
-};
-constexpr TiledScan kGpuScan{32, 32, "sat_build.cl", "sat_tile_totals", "sat_tile_scan", false};
-constexpr TiledScan kCpuScan{16, 64, "sat_build_cpu.cl", "sat_tile_totals_cpu", "sat_tile_scan_cpu", true};
+// The GPU distribution of the tiled scan: kernels/sat_build.cl, 32x32 tiles in local
+// memory, 32 work-items per tile, kernels/sat_carries.cl in between.
+constexpr int kGpuTile = 32;
+// The CPU distribution: kernels/sat_build_cpu.cl, one work-item per band of full rows in
+// 16-lane vectors (band totals, sat_column_carries, band scan).
+constexpr int kCpuLanes = 16;
+constexpr int kCpuBandHeight = 16;
 
 std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }
 
@@ -96,14 +90,14 @@ struct SatSource {
     std::uint32_t scale = 0;
 };
 
-// Compile-time variant: input kind, sample count, depth convention, tile size.
-std::vector<std::string> build_defines(const SatSource& source, const TiledScan& scan) {
+// Compile-time variant: input kind, sample count, depth convention, tile or band size.
+std::vector<std::string> build_defines(const SatSource& source, SatKernel kernel) {
     const bool zero_one = !source.is_depth || source.depth_range == DepthRange::zero_one;
     return {"MSM_SAT_SOURCE=" + std::string(source.is_depth ? "0" : "1"),
             "MSM_SAMPLES=" + std::to_string(source.is_depth ? source.samples : 1),
             "MSM_DEPTH_ZERO_ONE=" + std::string(zero_one ? "1" : "0"),
-            scan.item_per_tile ? "MSM_SAT_TILE_H=" + std::to_string(scan.tile_height)
-                               : "MSM_SAT_TILE=" + std::to_string(scan.tile_width)};
+            kernel == SatKernel::tiled_cpu ? "MSM_SAT_BAND_H=" + std::to_string(kCpuBandHeight)
+                                           : "MSM_SAT_TILE=" + std::to_string(kGpuTile)};
 }
 
 cl::Buffer scratch_buffer(detail::ContextImpl& impl, std::size_t words, const char* what) {
@@ -128,38 +122,79 @@ void set_source_arguments(cl::Kernel& kernel, const cl::Buffer& source, int widt
     detail::set_arg(kernel, 3, static_cast<cl_uint>(scale));
 }
 
-// Enqueues the whole build on `queue`; returns the event of its last command.
-cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
-                        const cl::Buffer& source, const SatSource& what, int width, int height,
-                        const cl::Buffer& table, SatKernel kernel) {
-    validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " table");
+// The baseline of the papers: one work-item per row, then one per column in place.
+cl::Event enqueue_rows_per_thread(detail::ContextImpl& impl, const cl::CommandQueue& queue,
+                                  const std::vector<cl::Event>& waits, const cl::Buffer& source,
+                                  const SatSource& what, int width, int height, const cl::Buffer& table) {
+    const std::vector<std::string> defines = build_defines(what, SatKernel::row_per_thread);
+    cl::Kernel& rows = impl.kernel("sat_build.cl", defines, "sat_rows_per_thread");
+    set_source_arguments(rows, source, width, height, what.scale);
+    detail::set_arg(rows, 4, table);
+    cl::Event rows_done;
+    launch(queue, rows, cl::NDRange(static_cast<std::size_t>(height)), cl::NullRange, waits, rows_done,
+           "clEnqueueNDRangeKernel(sat_rows_per_thread)");
+    cl::Kernel& columns = impl.kernel("sat_build.cl", defines, "sat_columns_per_thread");
+    detail::set_arg(columns, 0, table);
+    detail::set_arg(columns, 1, static_cast<cl_int>(width));
+    detail::set_arg(columns, 2, static_cast<cl_int>(height));
     cl::Event last;
+    launch(queue, columns, cl::NDRange(static_cast<std::size_t>(width)), cl::NullRange, {rows_done}, last,
+           "clEnqueueNDRangeKernel(sat_columns_per_thread)");
+    return last;
+}
 
-    if (kernel == SatKernel::row_per_thread) {
-        // The baseline: rows, then columns in place.
-        const std::vector<std::string> defines = build_defines(what, kGpuScan);
-        cl::Kernel& rows = impl.kernel("sat_build.cl", defines, "sat_rows_per_thread");
-        set_source_arguments(rows, source, width, height, what.scale);
-        detail::set_arg(rows, 4, table);
-        cl::Event rows_done;
-        launch(queue, rows, cl::NDRange(static_cast<std::size_t>(height)), cl::NullRange, waits, rows_done,
-               "clEnqueueNDRangeKernel(sat_rows_per_thread)");
-        cl::Kernel& columns = impl.kernel("sat_build.cl", defines, "sat_columns_per_thread");
-        detail::set_arg(columns, 0, table);
-        detail::set_arg(columns, 1, static_cast<cl_int>(width));
-        detail::set_arg(columns, 2, static_cast<cl_int>(height));
-        launch(queue, columns, cl::NDRange(static_cast<std::size_t>(width)), cl::NullRange, {rows_done}, last,
-               "clEnqueueNDRangeKernel(sat_columns_per_thread)");
-        return last;
-    }
+// CPU: bands of full rows (kernels/sat_build_cpu.cl); the only carries are the column sums
+// above each band.
+cl::Event enqueue_band_scan(detail::ContextImpl& impl, const cl::CommandQueue& queue,
+                            const std::vector<cl::Event>& waits, const cl::Buffer& source, const SatSource& what,
+                            int width, int height, const cl::Buffer& table) {
+    const std::vector<std::string> defines = build_defines(what, SatKernel::tiled_cpu);
+    const int bands = (height + kCpuBandHeight - 1) / kCpuBandHeight;
+    const int padded_width = (width + kCpuLanes - 1) / kCpuLanes * kCpuLanes;
+    cl::Buffer column_carries =
+        scratch_buffer(impl, 4 * texel_count(padded_width, bands), "clCreateBuffer(sat band totals)");
+    // Groups of one work-item: the bands share nothing, and a fixed size means one
+    // compilation for every map size.
+    const cl::NDRange band_grid(static_cast<std::size_t>(bands));
+    const cl::NDRange one_item(1);
 
-    // Tiled scan: carries of the tile grid (4 words per entry).
-    const TiledScan& scan = kernel == SatKernel::tiled_cpu ? kCpuScan : kGpuScan;
-    const std::vector<std::string> defines = build_defines(what, scan);
-    const int tiles_x = (width + scan.tile_width - 1) / scan.tile_width;
-    const int tiles_y = (height + scan.tile_height - 1) / scan.tile_height;
-    const int padded_width = tiles_x * scan.tile_width;
-    const int padded_height = tiles_y * scan.tile_height;
+    // 1. Column sums of each band.
+    cl::Kernel& totals = impl.kernel("sat_build_cpu.cl", defines, "sat_band_totals_cpu");
+    set_source_arguments(totals, source, width, height, what.scale);
+    detail::set_arg(totals, 4, column_carries);
+    cl::Event totals_done;
+    launch(queue, totals, band_grid, one_item, waits, totals_done, "clEnqueueNDRangeKernel(sat_band_totals_cpu)");
+
+    // 2. Down the bands: the sums of each column above every band, in place.
+    cl::Kernel& carries = impl.kernel("sat_carries.cl", {}, "sat_column_carries");
+    detail::set_arg(carries, 0, column_carries);
+    detail::set_arg(carries, 1, static_cast<cl_int>(padded_width));
+    detail::set_arg(carries, 2, static_cast<cl_int>(bands));
+    cl::Event carries_done;
+    launch(queue, carries, cl::NDRange(static_cast<std::size_t>(padded_width)), cl::NullRange, {totals_done},
+           carries_done, "clEnqueueNDRangeKernel(sat_column_carries)");
+
+    // 3. Each band scanned from its carries, written once.
+    cl::Kernel& scan = impl.kernel("sat_build_cpu.cl", defines, "sat_band_scan_cpu");
+    set_source_arguments(scan, source, width, height, what.scale);
+    detail::set_arg(scan, 4, column_carries);
+    detail::set_arg(scan, 5, table);
+    cl::Event last;
+    launch(queue, scan, band_grid, one_item, {carries_done}, last, "clEnqueueNDRangeKernel(sat_band_scan_cpu)");
+    // The scratch buffer is released here; OpenCL keeps it until the kernels are done.
+    return last;
+}
+
+// GPU: 32x32 tiles in local memory (kernels/sat_build.cl), carries between tiles in
+// columns, rows and corners.
+cl::Event enqueue_tiled_gpu(detail::ContextImpl& impl, const cl::CommandQueue& queue,
+                            const std::vector<cl::Event>& waits, const cl::Buffer& source, const SatSource& what,
+                            int width, int height, const cl::Buffer& table) {
+    const std::vector<std::string> defines = build_defines(what, SatKernel::tiled_gpu);
+    const int tiles_x = (width + kGpuTile - 1) / kGpuTile;
+    const int tiles_y = (height + kGpuTile - 1) / kGpuTile;
+    const int padded_width = tiles_x * kGpuTile;
+    const int padded_height = tiles_y * kGpuTile;
     cl::Buffer column_carries =
         scratch_buffer(impl, 4 * texel_count(padded_width, tiles_y), "clCreateBuffer(sat column carries)");
     cl::Buffer row_carries =
@@ -167,30 +202,23 @@ cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue
     cl::Buffer tile_totals = scratch_buffer(impl, 4 * texel_count(tiles_x, tiles_y), "clCreateBuffer(sat tile totals)");
     cl::Buffer corner_carries =
         scratch_buffer(impl, 4 * texel_count(tiles_x, tiles_y), "clCreateBuffer(sat corner carries)");
-    const cl::NDRange tile_grid = scan.item_per_tile
-                                      ? cl::NDRange(static_cast<std::size_t>(tiles_x), static_cast<std::size_t>(tiles_y))
-                                      : cl::NDRange(static_cast<std::size_t>(padded_width), static_cast<std::size_t>(tiles_y));
-    // CPU: groups of one work-item (the work-items share nothing; a fixed size also means one
-    // kernel compilation for every map size).
-    const cl::NDRange tile_group =
-        scan.item_per_tile ? cl::NDRange(1, 1) : cl::NDRange(static_cast<std::size_t>(scan.tile_width), 1);
+    const cl::NDRange tile_grid(static_cast<std::size_t>(padded_width), static_cast<std::size_t>(tiles_y));
+    const cl::NDRange tile_group(static_cast<std::size_t>(kGpuTile), 1);
 
     // 1. Totals per tile.
-    cl::Kernel& totals = impl.kernel(scan.file, defines, scan.totals_kernel);
-    if (!scan.item_per_tile) {
-        // The GPU tiles need tile_width work-items per group; the built kernel may allow fewer.
-        const std::size_t limit = totals.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device);
-        if (limit < static_cast<std::size_t>(scan.tile_width))
-            throw device_error("sat: device '" + impl.info.name + "' runs the tiled_gpu kernels with at most " +
-                               std::to_string(limit) + " work-items per group, they need " +
-                               std::to_string(scan.tile_width) + " (use SatKernel::tiled_cpu)");
-    }
+    cl::Kernel& totals = impl.kernel("sat_build.cl", defines, "sat_tile_totals");
+    // The tiles need kGpuTile work-items per group; the built kernel may allow fewer.
+    const std::size_t limit = totals.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device);
+    if (limit < static_cast<std::size_t>(kGpuTile))
+        throw device_error("sat: device '" + impl.info.name + "' runs the tiled_gpu kernels with at most " +
+                           std::to_string(limit) + " work-items per group, they need " + std::to_string(kGpuTile) +
+                           " (use SatKernel::tiled_cpu)");
     set_source_arguments(totals, source, width, height, what.scale);
     detail::set_arg(totals, 4, column_carries);
     detail::set_arg(totals, 5, row_carries);
     detail::set_arg(totals, 6, tile_totals);
     cl::Event totals_done;
-    launch(queue, totals, tile_grid, tile_group, waits, totals_done, "clEnqueueNDRangeKernel(sat tile totals)");
+    launch(queue, totals, tile_grid, tile_group, waits, totals_done, "clEnqueueNDRangeKernel(sat_tile_totals)");
 
     // 2. Carries across tiles: columns, rows, corners (independent of each other).
     const std::vector<cl::Event> after_totals{totals_done};
@@ -218,16 +246,31 @@ cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue
            "clEnqueueNDRangeKernel(sat_corner_carries)");
 
     // 3. Each tile scanned from its carries, written once.
-    cl::Kernel& tile_scan = impl.kernel(scan.file, defines, scan.scan_kernel);
+    cl::Kernel& tile_scan = impl.kernel("sat_build.cl", defines, "sat_tile_scan");
     set_source_arguments(tile_scan, source, width, height, what.scale);
     detail::set_arg(tile_scan, 4, column_carries);
     detail::set_arg(tile_scan, 5, row_carries);
     detail::set_arg(tile_scan, 6, corner_carries);
     detail::set_arg(tile_scan, 7, table);
+    cl::Event last;
     launch(queue, tile_scan, tile_grid, tile_group, {columns_done, rows_done, corners_done}, last,
-           "clEnqueueNDRangeKernel(sat tile scan)");
+           "clEnqueueNDRangeKernel(sat_tile_scan)");
     // The scratch buffers are released here; OpenCL keeps them until the kernels are done.
     return last;
+}
+
+// Enqueues the whole build on `queue` with the given distribution; returns the event of
+// its last command.
+cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
+                        const cl::Buffer& source, const SatSource& what, int width, int height,
+                        const cl::Buffer& table, SatKernel kernel) {
+    validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " table");
+    switch (kernel) {
+    case SatKernel::row_per_thread:
+        return enqueue_rows_per_thread(impl, queue, waits, source, what, width, height, table);
+    case SatKernel::tiled_cpu: return enqueue_band_scan(impl, queue, waits, source, what, width, height, table);
+    default: return enqueue_tiled_gpu(impl, queue, waits, source, what, width, height, table);
+    }
 }
 
 // Translucent layers (kernels/sat_translucent.cl): the composited texels into a scratch

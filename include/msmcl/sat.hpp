@@ -38,14 +38,15 @@ inline constexpr std::uint32_t sat_max_kernel_texels = 0x7fffffffu;
 std::uint32_t sat_scale(std::uint32_t max_kernel_texels);
 
 /// Which kernels build the table. All give the same bits. The tiled scans read the input
-/// twice (tile totals, then the scan) and write the table once; carries between tiles are
+/// twice (totals, then the scan) and write the table once; the carries in between are
 /// prefix sums over 1/16 to 1/32 of the texels.
 enum class SatKernel {
     automatic,      ///< tiled_gpu on GPUs, tiled_cpu elsewhere
     tiled_gpu,      ///< 32x32 tiles in local memory; work-items walk tile columns, then tile rows
                     ///< (one add per texel and direction, conflict-free padded rows)
-    tiled_cpu,      ///< 16x64 tiles, one work-item each in 16-lane vectors: column walks, then
-                    ///< four shuffle-and-add steps across the lanes (what PoCL's CPU device runs well)
+    tiled_cpu,      ///< bands of 16 full rows, one work-item each, 16 columns at a time in 16-lane
+                    ///< vectors: column walks, then four shuffle-and-add steps across the lanes
+                    ///< (what PoCL's CPU device runs well)
     row_per_thread, ///< the papers' baseline: one work-item per row, then one per column
 };
 
