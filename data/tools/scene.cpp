@@ -7,6 +7,8 @@
 // front of the banner as N translucent planes facing the light (seed 001 section 4): per sample
 // and plane a depth and an opacity, channels layer<k>.Z, layer<k>.A (one sample) or
 // layer<k>.sample<s>.Z, layer<k>.sample<s>.A, beside the unchanged opaque depth.
+// With --materials, the material index of each view pixel (channel M: 0 sky, 1 ground,
+// 2 banner, 3 railing), on the grid of the receivers.
 #include "geometry.hpp"
 #include "msaa_pattern.hpp"
 
@@ -27,6 +29,8 @@ namespace {
 using msmcl::data::Vec3;
 
 enum class Material { sky, ground, banner, railing };
+/// Legend of the --materials channel M (the enum's values).
+constexpr const char* material_legend = "0 sky, 1 ground, 2 banner, 3 railing";
 
 struct Box {
     Vec3 low, high;
@@ -228,7 +232,7 @@ struct Options {
     int width = 256, height = 0, samples = 4, smoke_planes = 0;
     int view_width = 320, view_height = 240;
     bool half = false;
-    std::string depth_path, receivers_path, lighting_path, hard_preview_path, depth_preview_path;
+    std::string depth_path, receivers_path, lighting_path, hard_preview_path, depth_preview_path, materials_path;
 };
 
 int run(const Options& options) {
@@ -290,7 +294,8 @@ int run(const Options& options) {
         for (std::size_t t = 0; t < first_sample.size(); ++t) first_sample[t] = depth.depth[t * options.samples];
         msmcl::io::write_png_preview(options.depth_preview_path, options.width, height, 1, first_sample);
     }
-    if (options.receivers_path.empty() && options.lighting_path.empty() && options.hard_preview_path.empty())
+    if (options.receivers_path.empty() && options.lighting_path.empty() && options.hard_preview_path.empty() &&
+        options.materials_path.empty())
         return 0;
 
     // View: each pixel's visible point, in light space, plus its lighting terms.
@@ -300,12 +305,13 @@ int run(const Options& options) {
     receivers.width = options.view_width;
     receivers.height = options.view_height;
     const std::size_t pixels = static_cast<std::size_t>(options.view_width) * options.view_height;
-    std::vector<float> ambient(pixels), direct(pixels), hard(pixels);
+    std::vector<float> ambient(pixels), direct(pixels), hard(pixels), material(pixels);
     const double ambient_share = 0.3;
     for (int py = 0; py < options.view_height; ++py)
         for (int px = 0; px < options.view_width; ++px) {
             const std::size_t i = static_cast<std::size_t>(py) * options.view_width + px;
             const Hit hit = scene.intersect(camera.position, camera.ray(px + 0.5, py + 0.5));
+            material[i] = static_cast<float>(static_cast<int>(hit.material));
             if (hit.material == Material::sky) {
                 // Sky: a lit receiver at the map's near plane, shown bright.
                 receivers.points.u.push_back(0.5f);
@@ -350,6 +356,14 @@ int run(const Options& options) {
                              {"direct", msmcl::io::SampleType::float32, direct, {}}};
         msmcl::io::write_exr(options.lighting_path, lighting);
     }
+    if (!options.materials_path.empty()) {
+        msmcl::io::ExrImage materials;
+        materials.width = options.view_width;
+        materials.height = options.view_height;
+        materials.channels = {{"M", msmcl::io::SampleType::float32, material, {}}};
+        materials.attributes = {{"msmcl:materials", std::string(material_legend)}};
+        msmcl::io::write_exr(options.materials_path, materials);
+    }
     if (!options.hard_preview_path.empty())
         msmcl::io::write_png_preview(options.hard_preview_path, options.view_width, options.view_height, 1, hard);
     return 0;
@@ -376,6 +390,8 @@ int main(int argc, char** argv) {
     app.add_option("--view-width", options.view_width, "view width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
     app.add_option("--view-height", options.view_height, "view height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
     app.add_option("--lighting", options.lighting_path, "EXR with the view's ambient and direct terms (for msmcl-preview)");
+    app.add_option("--materials", options.materials_path,
+                   std::string("EXR with the material of each view pixel, channel M (") + material_legend + ")");
     app.add_option("--hard-preview", options.hard_preview_path, "PNG of the view with unfiltered hard shadows");
     app.add_option("--depth-preview", options.depth_preview_path, "PNG of sample 0 of the depth map");
     CLI11_PARSE(app, argc, argv);
