@@ -12,7 +12,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 
 # Build the CLI and the sample-data tools; generate the larger sample scenes (1024^2).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-scatter-scene
+cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-scatter-scene msmcl-quality
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
 tools=$build/data
@@ -97,6 +97,10 @@ for entry in hall:0.3 pergola:1.5; do
     "$out/${name}_marched128.exr" --ray-march 128
   "$tools/msmcl-preview" "$out/${name}_marched128.exr" "$out/${name}_marched128.png" --white "$white"
 done
+
+# The quality table on the 1024^2 scenes: every format and VSM against 128-bit moments and
+# the PCF ground truth, with shadow and error images (out/quality/).
+"$build/bench/msmcl-quality" --large --out "$out/quality" --json "$out/quality/quality.json" > "$out/quality.md"
 
 echo "main job: textures, shadows and previews in $out"
 ls "$out"/*.png | sed 's/^/  /'
