@@ -70,6 +70,14 @@ static inline texels16 zero_texels16(void) {
     return t;
 }
 
+static inline texels16 add_texels16(texels16 a, texels16 b) {
+    a.c0 += b.c0;
+    a.c1 += b.c1;
+    a.c2 += b.c2;
+    a.c3 += b.c3;
+    return a;
+}
+
 // Four channels from 64 consecutive words (16 texels of R, G, B, A).
 static inline texels16 deinterleave_words(__global const uint* words) {
     uint16 v[4];
@@ -228,10 +236,7 @@ __kernel void sat_band_totals_cpu(__global const SOURCE_TYPE* source, int width,
         texels16 column = zero_texels16();
         for (int r = 0; r < BAND_H; ++r) {
             const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
-            column.c0 += t.c0;
-            column.c1 += t.c1;
-            column.c2 += t.c2;
-            column.c3 += t.c3;
+            column = add_texels16(column, t);
         }
         store_interleaved(column, band_totals + 4 * ((size_t)band * (size_t)chunks * LANES + (size_t)x0));
     }
@@ -255,10 +260,7 @@ __kernel void sat_band_scan_cpu(__global const SOURCE_TYPE* source, int width, i
             deinterleave_words(column_carries + 4 * ((size_t)band * (size_t)chunks * LANES + (size_t)x0));
         for (int r = 0; r < rows; ++r) {
             const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
-            column.c0 += t.c0;
-            column.c1 += t.c1;
-            column.c2 += t.c2;
-            column.c3 += t.c3;
+            column = add_texels16(column, t);
             texels16 out;
             out.c0 = lane_prefix(column.c0) + left[4 * r + 0];
             out.c1 = lane_prefix(column.c1) + left[4 * r + 1];
