@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "cli/option_values.hpp"
 
 #include "io/dds.hpp"
 #include "io/exr_io.hpp"
@@ -18,22 +19,6 @@
 
 namespace msmcl::cli {
 namespace {
-
-/// The whole of `text` as a finite float, else usage_error naming the option.
-float parse_finite_float(const std::string& option, const std::string& text) {
-    char* end = nullptr;
-    errno = 0;
-    const float value = std::strtof(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(value))
-        throw usage_error(option + " must be a finite number, got '" + text + "'");
-    return value;
-}
-
-DepthRange parse_depth_range_option(const std::string& text) {
-    const std::optional<DepthRange> range = parse_depth_range(text);
-    if (!range) throw usage_error("--depth-range must be 0,1 or -1,1, got '" + text + "'");
-    return *range;
-}
 
 enum class Container { exr, ktx2, dds };
 

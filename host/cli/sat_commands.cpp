@@ -1,4 +1,5 @@
 #include "cli/sat_commands.hpp"
+#include "cli/option_values.hpp"
 
 #include "io/exr_io.hpp"
 #include "io/sat_exr.hpp"
@@ -13,33 +14,6 @@
 
 namespace msmcl::cli {
 namespace {
-
-// The whole of `text` as a finite float, else usage_error naming the option.
-float finite_float(const std::string& option, const std::string& text) {
-    char* end = nullptr;
-    errno = 0;
-    const float value = std::strtof(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(value))
-        throw usage_error(option + " must be a finite number, got '" + text + "'");
-    return value;
-}
-
-// The whole of `text` as an integer in [lowest, highest], else usage_error naming the option.
-long long integer(const std::string& option, const std::string& text, long long lowest, long long highest) {
-    char* end = nullptr;
-    errno = 0;
-    const long long value = std::strtoll(text.c_str(), &end, 10);
-    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || value < lowest || value > highest)
-        throw usage_error(option + " must be an integer in [" + std::to_string(lowest) + ", " +
-                          std::to_string(highest) + "], got '" + text + "'");
-    return value;
-}
-
-DepthRange depth_range_option(const std::string& text) {
-    const std::optional<DepthRange> range = parse_depth_range(text);
-    if (!range) throw usage_error("--depth-range must be 0,1 or -1,1, got '" + text + "'");
-    return *range;
-}
 
 // Library input errors do not know the file; put it in front.
 [[noreturn]] void rethrow_with_file(const std::string& path, const input_error& e) {
@@ -108,8 +82,8 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
     // Check the option values before touching any file.
     SatOptions options;
     options.max_kernel_texels = static_cast<std::uint32_t>(
-        integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
-    options.depth_range = depth_range_option(arguments.depth_range);
+        parse_integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
+    options.depth_range = parse_depth_range_option(arguments.depth_range);
 
     // Read and validate the depth map (and its translucent layers), build the table on the device.
     const io::TranslucentDepth layered = io::read_translucent_depth_exr(arguments.input, options.depth_range);
@@ -129,15 +103,15 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
 void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     // Check the option values before touching any file.
     SoftShadowOptions options;
-    options.light_size = finite_float("--light-size", arguments.light_size);
+    options.light_size = parse_finite_float("--light-size", arguments.light_size);
     if (options.light_size < 0.0f) throw usage_error("--light-size must be >= 0, got '" + arguments.light_size + "'");
-    options.search_size = static_cast<int>(integer("--search-size", arguments.search_size, 0, 46340));
-    options.min_filter_size = finite_float("--min-filter", arguments.min_filter);
+    options.search_size = static_cast<int>(parse_integer("--search-size", arguments.search_size, 0, 46340));
+    options.min_filter_size = parse_finite_float("--min-filter", arguments.min_filter);
     if (options.min_filter_size <= 0.0f)
         throw usage_error("--min-filter must be > 0, got '" + arguments.min_filter + "'");
-    options.depth_bias = finite_float("--depth-bias", arguments.depth_bias);
+    options.depth_bias = parse_finite_float("--depth-bias", arguments.depth_bias);
     std::optional<DepthRange> range;
-    if (!arguments.depth_range.empty()) range = depth_range_option(arguments.depth_range);
+    if (!arguments.depth_range.empty()) range = parse_depth_range_option(arguments.depth_range);
 
     // Read the table and the receivers; limits that depend on the table's N are checked here.
     const io::SatFile table = io::read_sat_exr(arguments.table);

@@ -1,4 +1,5 @@
 #include "cli/scatter_commands.hpp"
+#include "cli/option_values.hpp"
 
 #include "io/exr_io.hpp"
 
@@ -11,25 +12,6 @@
 
 namespace msmcl::cli {
 namespace {
-
-float parse_float_option(const std::string& option, const std::string& text) {
-    char* end = nullptr;
-    errno = 0;
-    const float value = std::strtof(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(value))
-        throw usage_error(option + " must be a finite number, got '" + text + "'");
-    return value;
-}
-
-long parse_integer_option(const std::string& option, const std::string& text, long low, long high) {
-    char* end = nullptr;
-    errno = 0;
-    const long value = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || value < low || value > high)
-        throw usage_error(option + " must be an integer in [" + std::to_string(low) + ", " + std::to_string(high) +
-                          "], got '" + text + "'");
-    return value;
-}
 
 /// The camera depth buffer: one HALF or FLOAT channel Z of the camera's size.
 std::vector<float> read_camera_depth(const std::string& path, const ScatterScene& scene) {
@@ -95,19 +77,19 @@ void add_scatter_command(CLI::App& app, ScatterArguments& a) {
 void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     // Check the option values before touching any file.
     ScatterOptions options;
-    options.moments = static_cast<int>(parse_integer_option("--moments", a.moments, 4, 6));
+    options.moments = static_cast<int>(parse_integer("--moments", a.moments, 4, 6));
     if (options.moments != 4 && options.moments != 6) throw usage_error("--moments must be 4 or 6, got '" + a.moments + "'");
     options.filtered = !a.no_filter;
-    options.filter_sigma = parse_float_option("--sigma", a.sigma);
+    options.filter_sigma = parse_finite_float("--sigma", a.sigma);
     if (options.filter_sigma < 0) throw usage_error("--sigma must be >= 0, got '" + a.sigma + "'");
     if (a.beta == "adaptive") {
         options.beta = -1.0f;
     } else {
-        options.beta = parse_float_option("--beta", a.beta);
+        options.beta = parse_finite_float("--beta", a.beta);
         if (options.beta < 0 || options.beta > 1) throw usage_error("--beta must be adaptive or in [0, 1], got '" + a.beta + "'");
     }
-    const int ray_steps = a.ray_march.empty() ? 0 : static_cast<int>(parse_integer_option("--ray-march", a.ray_march, 1, 1 << 20));
-    const auto jitter = static_cast<std::uint32_t>(parse_integer_option("--jitter", a.jitter, 0, 0xffffffffL));
+    const int ray_steps = a.ray_march.empty() ? 0 : static_cast<int>(parse_integer("--ray-march", a.ray_march, 1, 1 << 20));
+    const auto jitter = static_cast<std::uint32_t>(parse_integer("--jitter", a.jitter, 0, 0xffffffffL));
     if (ray_steps > 0 && (!a.rectified.empty() || !a.prefix_sums.empty()))
         throw usage_error("--rectified and --prefix-sums need the prefiltered method (no --ray-march)");
 

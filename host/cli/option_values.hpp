@@ -1,0 +1,22 @@
+// Option values CLI11 passes through as text, checked whole: every subcommand parses its
+// numbers and depth ranges here, so the messages (usage_error, exit code 2) read alike.
+#pragma once
+
+#include "cli/commands.hpp"
+
+#include <msmcl/formats.hpp>
+
+#include <string>
+
+namespace msmcl::cli {
+
+/// The whole of `text` as a finite float, else usage_error naming the option.
+float parse_finite_float(const std::string& option, const std::string& text);
+
+/// The whole of `text` as an integer in [lowest, highest], else usage_error naming the option.
+long long parse_integer(const std::string& option, const std::string& text, long long lowest, long long highest);
+
+/// --depth-range: "0,1" or "-1,1".
+DepthRange parse_depth_range_option(const std::string& text);
+
+} // namespace msmcl::cli
