@@ -78,9 +78,7 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_
     std::vector<cl::Event> waits = detail::wait_list(enqueue);
     cl::Event done;
     if (count == 0) {
-        // Nothing to shade: still honour the event contract with a marker.
-        detail::check(queue.enqueueMarkerWithWaitList(&waits, &done), "clEnqueueMarkerWithWaitList");
-        detail::complete(enqueue, queue, done);
+        detail::complete_without_work(enqueue, queue);
         return;
     }
     detail::set_arg(kernel, 0, map.buffer);

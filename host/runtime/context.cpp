@@ -47,6 +47,13 @@ void complete(const Enqueue& enqueue, const cl::CommandQueue& queue, const cl::E
     if (enqueue.blocking) check(queue.finish(), "clFinish");
 }
 
+void complete_without_work(const Enqueue& enqueue, const cl::CommandQueue& queue) {
+    std::vector<cl::Event> waits = wait_list(enqueue);
+    cl::Event marker;
+    check(queue.enqueueMarkerWithWaitList(waits.empty() ? nullptr : &waits, &marker), "clEnqueueMarkerWithWaitList");
+    complete(enqueue, queue, marker);
+}
+
 } // namespace detail
 
 namespace {

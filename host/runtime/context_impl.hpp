@@ -38,4 +38,8 @@ std::vector<cl::Event> wait_list(const Enqueue& enqueue);
 /// Hands the last event of a call to the caller (Enqueue::done) and blocks if asked.
 void complete(const Enqueue& enqueue, const cl::CommandQueue& queue, const cl::Event& last);
 
+/// A call with nothing to do still honours the event contract: a marker after the
+/// Enqueue's wait list is its last event.
+void complete_without_work(const Enqueue& enqueue, const cl::CommandQueue& queue);
+
 } // namespace msmcl::detail
