@@ -35,34 +35,15 @@ extern char** environ;
 namespace ref = msmcl::reference;
 
 #include "random_textures.hpp"
+#include "seeded_test.hpp"
 
 namespace {
 
 using msmcl::testing::random_texture;
 
-std::uint32_t test_seed() {
-    static const std::uint32_t seed = [] {
-        const char* env = std::getenv("MSMCL_TEST_SEED");
-        const std::uint32_t value = env ? static_cast<std::uint32_t>(std::strtoul(env, nullptr, 10)) : 20170728u;
-        std::printf("dither_test seed %u (set MSMCL_TEST_SEED to change)\n", value);
-        return value;
-    }();
-    return seed;
-}
+std::uint32_t test_seed() { return static_cast<std::uint32_t>(msmcl::testing::run_seed(20170728u)); }
 
-class DitherTest : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        if (msmcl::list_devices().empty()) return;
-        context_ = std::make_unique<msmcl::Context>();
-    }
-    static void TearDownTestSuite() { context_.reset(); }
-    void SetUp() override {
-        if (!context_) GTEST_SKIP() << "no OpenCL device";
-    }
-    static std::unique_ptr<msmcl::Context> context_;
-};
-std::unique_ptr<msmcl::Context> DitherTest::context_;
+class DitherTest : public msmcl::testing::DeviceSuite<DitherTest, 20170728u> {};
 
 
 // Double-precision shadow of one stored texel at internal depth zf: decode, bias, generic

@@ -7,6 +7,7 @@
 #include "ops/scatter_params.hpp"
 #include "reference/filter_reference.hpp"
 #include "reference/scatter_reference.hpp"
+#include "seeded_test.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -32,15 +33,7 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-std::uint32_t test_seed() {
-    static const std::uint32_t seed = [] {
-        const char* env = std::getenv("MSMCL_TEST_SEED");
-        const std::uint32_t s = env ? static_cast<std::uint32_t>(std::strtoul(env, nullptr, 10)) : 20160227u;
-        std::printf("scatter_test seed %u (set MSMCL_TEST_SEED to change)\n", s);
-        return s;
-    }();
-    return seed;
-}
+std::uint32_t test_seed() { return static_cast<std::uint32_t>(msmcl::testing::run_seed(20160227u)); }
 
 std::string read_text(const std::string& path) {
     std::ifstream file(path, std::ios::binary);
@@ -639,19 +632,7 @@ TEST(ScatterMath, FourMomentBlendIsTheHamburgerBoundsBlend) {
 
 // ---------------------------------------------------------------- kernels on the device
 
-class ScatterDevice : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        if (msmcl::list_devices().empty()) return;
-        context_ = std::make_unique<msmcl::Context>();
-    }
-    static void TearDownTestSuite() { context_.reset(); }
-    void SetUp() override {
-        if (!context_) GTEST_SKIP() << "no OpenCL device";
-    }
-    static std::unique_ptr<msmcl::Context> context_;
-};
-std::unique_ptr<msmcl::Context> ScatterDevice::context_;
+class ScatterDevice : public msmcl::testing::DeviceSuite<ScatterDevice, 20160227u> {};
 
 TEST_F(ScatterDevice, UnfilteredResamplingAndPrefixSums) {
     // Rows shorter than one chunk of the kernel, and rows of several chunks with a remainder.

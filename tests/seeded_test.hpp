@@ -49,12 +49,13 @@ namespace msmcl::testing {
 
 /// A suite sharing one msmcl::Context on the default device (built once per suite, as
 /// PoCL compiles programs per context); every test skips where there is no device.
-/// `Suite` is the deriving fixture, so that each suite has its own context.
-template <class Suite>
+/// `Suite` is the deriving fixture, so that each suite has its own context; `DefaultSeed`
+/// the seed of the run when MSMCL_TEST_SEED is not set.
+template <class Suite, std::uint64_t DefaultSeed = 20160227u>
 class DeviceSuite : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        seed_ = static_cast<std::uint32_t>(run_seed(20160227u));
+        seed_ = static_cast<std::uint32_t>(run_seed(DefaultSeed));
         if (msmcl::list_devices().empty()) return;
         context_ = std::make_unique<msmcl::Context>();
     }

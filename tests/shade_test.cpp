@@ -22,31 +22,15 @@
 namespace ref = msmcl::reference;
 
 #include "random_textures.hpp"
+#include "seeded_test.hpp"
 
 namespace {
 
 using msmcl::testing::random_texture;
 
-std::uint32_t test_seed() {
-    const char* env = std::getenv("MSMCL_TEST_SEED");
-    const std::uint32_t seed = env ? static_cast<std::uint32_t>(std::strtoul(env, nullptr, 10)) : 20171122u;
-    std::printf("shade_test seed %u (set MSMCL_TEST_SEED to change)\n", seed);
-    return seed;
-}
+std::uint32_t test_seed() { return static_cast<std::uint32_t>(msmcl::testing::run_seed(20171122u)); }
 
-class ShadeTest : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        if (msmcl::list_devices().empty()) return;
-        context_ = std::make_unique<msmcl::Context>();
-    }
-    static void TearDownTestSuite() { context_.reset(); }
-    void SetUp() override {
-        if (!context_) GTEST_SKIP() << "no OpenCL device";
-    }
-    static std::unique_ptr<msmcl::Context> context_;
-};
-std::unique_ptr<msmcl::Context> ShadeTest::context_;
+class ShadeTest : public msmcl::testing::DeviceSuite<ShadeTest, 20171122u> {};
 
 // A texel's depth distribution: what a filtered shadow map holds near silhouettes (two
 
