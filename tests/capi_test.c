@@ -1,6 +1,11 @@
 /* The C API (include/msmcl/msmcl.h) from C, linked against the shared library: status codes
  * and messages, host filter against a double-precision reference, device paths (buffers and
- * images, no host access to the caller's objects) against the host path, shade, SAT.
+ * images, no host access to the caller's objects) against the host path, shade, SAT;
+ * translucent layers (filter and SAT against a double reference and the bits the C++ API
+ * guarantees: no or clear layers give the opaque bits, opacity 1 acts as opaque, device
+ * equals host) and the dithered lookup (each result one of its texels shaded as nearest,
+ * pixels / screen width / frame reach the kernel, device equals host, the mean over frames
+ * is the bilinear blend).
  * Seed: MSMCL_TEST_SEED (default 6), printed. Exit code 0 when every check passes. */
 #include <msmcl/msmcl.h>
 
@@ -348,6 +353,576 @@ static void test_sat(msmcl_context* context, const float* depth) {
     free(device);
 }
 
+/* ---- Translucent layers */
+
+enum { LAYERS = 2, VALUES = WIDTH * HEIGHT * SAMPLES };
+
+/* LAYERS layers, one after the other (the device layout): random depths over the whole
+ * range; opacities a quarter 0, a quarter 1, the rest in (0, 1). */
+static void make_layers(float* layer_depth, float* layer_opacity) {
+    for (int i = 0; i < LAYERS * VALUES; ++i) {
+        float pick = random_unit();
+        layer_depth[i] = random_unit();
+        layer_opacity[i] = pick < 0.25f ? 0.0f : pick < 0.5f ? 1.0f : random_unit();
+    }
+}
+
+/* Host view of layers stored one after the other. */
+static void layer_views(const float* layer_depth, const float* layer_opacity, msmcl_translucent_layer* views) {
+    for (int k = 0; k < LAYERS; ++k) {
+        views[k].depth = layer_depth + (size_t)k * VALUES;
+        views[k].opacity = layer_opacity + (size_t)k * VALUES;
+    }
+}
+
+/* Double reference (SPEC section 7): the sample's surfaces sorted nearest first (the
+ * translucent ones before the opaque one at equal depth), alpha-blended front to back;
+ * adds the blend's moments b1..b4 times `scale` to b. Depths in [0,1]: z = 2d - 1. */
+static void add_composite_moments(const float* depth, const float* layer_depth, const float* layer_opacity,
+                                  size_t index, double scale, double* b) {
+    double z[LAYERS + 1], a[LAYERS + 1], transmitted = 1.0;
+    int count = 0;
+    for (int k = 0; k <= LAYERS; ++k) {
+        /* Insertion sort, stable: the opaque surface (k == LAYERS) goes last among equals. */
+        double zk = 2.0 * (k < LAYERS ? layer_depth[(size_t)k * VALUES + index] : depth[index]) - 1.0;
+        double ak = k < LAYERS ? layer_opacity[(size_t)k * VALUES + index] : 1.0;
+        int at = count++;
+        while (at > 0 && z[at - 1] > zk) {
+            z[at] = z[at - 1];
+            a[at] = a[at - 1];
+            --at;
+        }
+        z[at] = zk;
+        a[at] = ak;
+    }
+    for (int i = 0; i < count; ++i) {
+        double weight = transmitted * a[i] * scale;
+        transmitted *= 1.0 - a[i];
+        b[0] += weight * z[i];
+        b[1] += weight * z[i] * z[i];
+        b[2] += weight * z[i] * z[i] * z[i];
+        b[3] += weight * z[i] * z[i] * z[i] * z[i];
+    }
+}
+
+/* A device-only buffer (no host access) holding `bytes` of `data`, filled by a device copy. */
+static cl_mem device_only_buffer(cl_context cl, cl_command_queue queue, size_t bytes, const void* data) {
+    cl_int error = CL_SUCCESS;
+    cl_mem staging = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, (void*)data, &error);
+    cl_mem buffer = clCreateBuffer(cl, CL_MEM_READ_WRITE | CL_MEM_HOST_NO_ACCESS, bytes, NULL, &error);
+    CHECK(error == CL_SUCCESS, "clCreateBuffer %d", error);
+    CHECK(clEnqueueCopyBuffer(queue, staging, buffer, 0, 0, bytes, 0, NULL, NULL) == CL_SUCCESS, "copy");
+    clFinish(queue);
+    clReleaseMemObject(staging);
+    return buffer;
+}
+
+static cl_mem image_2d(cl_context cl, cl_image_format format) {
+    cl_int error = CL_SUCCESS;
+    cl_image_desc description;
+    cl_mem image;
+    memset(&description, 0, sizeof description);
+    description.image_type = CL_MEM_OBJECT_IMAGE2D;
+    description.image_width = WIDTH;
+    description.image_height = HEIGHT;
+    image = clCreateImage(cl, CL_MEM_READ_WRITE | CL_MEM_HOST_NO_ACCESS, &format, &description, NULL, &error);
+    CHECK(error == CL_SUCCESS, "clCreateImage %d", error);
+    return image;
+}
+
+/* msmcl_filter_layered and msmcl_filter_layered_device. */
+static void test_translucent_filter(msmcl_context* context, const float* depth) {
+    cl_context cl = msmcl_context_cl_context(context);
+    cl_command_queue queue = msmcl_context_cl_queue(context);
+    const size_t texels = WIDTH * HEIGHT;
+    const size_t code_bytes = sizeof(unsigned short) * 4 * texels;
+    float* layer_depth = malloc(sizeof(float) * LAYERS * VALUES);
+    float* layer_opacity = malloc(sizeof(float) * LAYERS * VALUES);
+    float* clear_opacity = calloc((size_t)LAYERS * VALUES, sizeof(float));
+    float* nearer = malloc(sizeof(float) * VALUES);
+    float* moments = malloc(sizeof(float) * 4 * texels);
+    unsigned short* expected = malloc(code_bytes);
+    unsigned short* codes = malloc(code_bytes);
+    msmcl_translucent_layer layers[LAYERS], clear[LAYERS], wall[1];
+    msmcl_filter_options options;
+    msmcl_status status;
+    double worst = 0.0;
+
+    make_layers(layer_depth, layer_opacity);
+    layer_views(layer_depth, layer_opacity, layers);
+    layer_views(layer_depth, clear_opacity, clear);
+    msmcl_filter_options_init(&options);
+
+    /* moments128, no blur: each texel the mean over its samples of the composited moments. */
+    options.format = MSMCL_FORMAT_MOMENTS128;
+    options.sigma = 0.0f;
+    CHECK_OK(msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, layers, LAYERS, &options, moments,
+                                  sizeof(float) * 4 * texels));
+    for (size_t t = 0; t < texels; ++t) {
+        double b[4] = {0, 0, 0, 0};
+        for (int s = 0; s < SAMPLES; ++s)
+            add_composite_moments(depth, layer_depth, layer_opacity, t * SAMPLES + s, 1.0 / SAMPLES, b);
+        for (int j = 0; j < 4; ++j)
+            if (fabs(moments[4 * t + j] - b[j]) > worst) worst = fabs(moments[4 * t + j] - b[j]);
+    }
+    printf("capi_test: translucent moments128 vs double reference: worst %.3g\n", worst);
+    /* float32: the composite's roundings (transmittances, weights, 3 terms, the division by
+     * their total) and the mean of 4 samples, values <= 1 (tests/translucent_test.cpp: 3e-6). */
+    CHECK(worst <= 3e-6, "translucent moments128 off by %g", worst);
+
+    /* No layers, and layers of opacity 0: the opaque filter's bits (default nlq64, blurred). */
+    msmcl_filter_options_init(&options);
+    CHECK_OK(msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, expected, code_bytes));
+    CHECK_OK(msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, NULL, 0, &options, codes, code_bytes));
+    CHECK(memcmp(codes, expected, code_bytes) == 0, "no layers differs from msmcl_filter");
+    memset(codes, 0, code_bytes);
+    CHECK_OK(msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, clear, LAYERS, &options, codes, code_bytes));
+    CHECK(memcmp(codes, expected, code_bytes) == 0, "layers of opacity 0 differ from msmcl_filter");
+
+    /* Opacity 1 acts as opaque: the opaque map of the nearer depth, bit for bit (msm64: no
+     * per-block shift that the nearer depth could move). */
+    options.format = MSMCL_FORMAT_MSM64;
+    wall[0].depth = layer_depth;
+    wall[0].opacity = layer_opacity + VALUES; /* reuse the second layer's opacities, made 0 or 1 */
+    for (int i = 0; i < VALUES; ++i) {
+        layer_opacity[VALUES + i] = layer_opacity[VALUES + i] >= 0.5f ? 1.0f : 0.0f;
+        nearer[i] = layer_opacity[VALUES + i] == 1.0f && layer_depth[i] < depth[i] ? layer_depth[i] : depth[i];
+    }
+    CHECK_OK(msmcl_filter(context, nearer, WIDTH, HEIGHT, SAMPLES, &options, expected, code_bytes));
+    CHECK_OK(msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, wall, 1, &options, codes, code_bytes));
+    CHECK(memcmp(codes, expected, code_bytes) == 0, "an opacity-1 layer differs from the opaque nearer depth");
+
+    /* Device: depth, layers and texture in device-only buffers, against the host path. */
+    {
+        cl_mem depth_buffer = device_only_buffer(cl, queue, sizeof(float) * VALUES, depth);
+        cl_mem depth_layers = device_only_buffer(cl, queue, sizeof(float) * LAYERS * VALUES, layer_depth);
+        cl_mem opacity_layers = device_only_buffer(cl, queue, sizeof(float) * LAYERS * VALUES, layer_opacity);
+        cl_mem texture_buffer = clCreateBuffer(cl, CL_MEM_READ_WRITE | CL_MEM_HOST_NO_ACCESS, code_bytes, NULL, NULL);
+        cl_image_format nlq32_format;
+        cl_mem texture_image;
+        msmcl_device_depth device_depth = {depth_buffer, WIDTH, HEIGHT, SAMPLES, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+        msmcl_device_layers device_layers = {depth_layers, opacity_layers, LAYERS};
+        msmcl_enqueue enqueue;
+        cl_event done = NULL;
+
+        /* msm64 with both layers (the first partly translucent, the second 0 or 1). */
+        CHECK_OK(msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, layers, LAYERS, &options, expected,
+                                      code_bytes));
+        memset(&enqueue, 0, sizeof enqueue);
+        enqueue.done = &done;
+        CHECK_OK(msmcl_filter_layered_device(context, &device_depth, &device_layers, texture_buffer, &options,
+                                             &enqueue));
+        CHECK(done != NULL, "no done event");
+        if (done) {
+            clWaitForEvents(1, &done);
+            clReleaseEvent(done);
+        }
+        read_device_buffer(cl, queue, texture_buffer, code_bytes, codes);
+        CHECK(memcmp(codes, expected, code_bytes) == 0, "layered device filter differs from the host path");
+
+        /* No layers (count 0, or NULL): msmcl_filter_device, images included. */
+        CHECK_OK(msmcl_texture_image_format(MSMCL_FORMAT_NLQ32, &nlq32_format));
+        texture_image = image_2d(cl, nlq32_format);
+        options.format = MSMCL_FORMAT_NLQ32;
+        CHECK_OK(msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, expected, sizeof(unsigned int) * texels));
+        device_layers.count = 0;
+        CHECK_OK(msmcl_filter_layered_device(context, &device_depth, &device_layers, texture_image, &options, NULL));
+        read_device_image(cl, queue, texture_image, sizeof(unsigned int), codes, NULL);
+        CHECK(memcmp(codes, expected, sizeof(unsigned int) * texels) == 0, "count 0 into an image differs");
+        memset(codes, 0, code_bytes);
+        CHECK_OK(msmcl_filter_layered_device(context, &device_depth, NULL, texture_image, &options, NULL));
+        read_device_image(cl, queue, texture_image, sizeof(unsigned int), codes, NULL);
+        CHECK(memcmp(codes, expected, sizeof(unsigned int) * texels) == 0, "NULL layers into an image differs");
+
+        /* Layers need buffers; NULL layer buffers with a count are the caller's mistake. */
+        device_layers.count = LAYERS;
+        status = msmcl_filter_layered_device(context, &device_depth, &device_layers, texture_image, &options, NULL);
+        CHECK(status == MSMCL_ERROR_INPUT && strstr(msmcl_last_error_message(), "buffer"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+        device_layers.opacity = NULL;
+        status = msmcl_filter_layered_device(context, &device_depth, &device_layers, texture_buffer, &options, NULL);
+        CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "opacity"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+        /* Buffers too small for the count: the C++ API's input error. */
+        device_layers.opacity = opacity_layers;
+        device_layers.count = LAYERS + 1;
+        status = msmcl_filter_layered_device(context, &device_depth, &device_layers, texture_buffer, &options, NULL);
+        CHECK(status == MSMCL_ERROR_INPUT && msmcl_last_error_message()[0] != '\0', "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+
+        clReleaseMemObject(texture_image);
+        clReleaseMemObject(texture_buffer);
+        clReleaseMemObject(opacity_layers);
+        clReleaseMemObject(depth_layers);
+        clReleaseMemObject(depth_buffer);
+    }
+
+    /* Host errors: NULL layers with a count and NULL arrays are argument errors; bad values,
+     * too many layers are input errors naming what is wrong. */
+    options.format = MSMCL_FORMAT_MSM64;
+    status = msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, NULL, 2, &options, codes, code_bytes);
+    CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "layers is NULL"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    clear[1].opacity = NULL;
+    status = msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, clear, LAYERS, &options, codes, code_bytes);
+    CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "layers[1].opacity"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    clear[1].opacity = clear_opacity + VALUES;
+    clear_opacity[VALUES + (3 * WIDTH + 5) * SAMPLES + 2] = 1.5f;
+    status = msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, clear, LAYERS, &options, codes, code_bytes);
+    CHECK(status == MSMCL_ERROR_INPUT && strstr(msmcl_last_error_message(), "opacity") &&
+              strstr(msmcl_last_error_message(), "(5, 3)"),
+          "%s: %s", msmcl_status_name(status), msmcl_last_error_message());
+    clear_opacity[VALUES + (3 * WIDTH + 5) * SAMPLES + 2] = 0.0f;
+    layer_depth[7] = NAN;
+    status = msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, clear, LAYERS, &options, codes, code_bytes);
+    CHECK(status == MSMCL_ERROR_INPUT && strstr(msmcl_last_error_message(), "depth"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    layer_depth[7] = 0.5f;
+    {
+        msmcl_translucent_layer many[MSMCL_MAX_TRANSLUCENT_LAYERS + 1];
+        for (int k = 0; k <= MSMCL_MAX_TRANSLUCENT_LAYERS; ++k) many[k] = clear[0];
+        status = msmcl_filter_layered(context, depth, WIDTH, HEIGHT, SAMPLES, many, MSMCL_MAX_TRANSLUCENT_LAYERS + 1,
+                                      &options, codes, code_bytes);
+        CHECK(status == MSMCL_ERROR_INPUT && strstr(msmcl_last_error_message(), "at most 8"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+    }
+    status = msmcl_filter_layered(NULL, depth, WIDTH, HEIGHT, SAMPLES, clear, LAYERS, &options, codes, code_bytes);
+    CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT, "%s: %s", msmcl_status_name(status), msmcl_last_error_message());
+
+    free(layer_depth);
+    free(layer_opacity);
+    free(clear_opacity);
+    free(nearer);
+    free(moments);
+    free(expected);
+    free(codes);
+}
+
+/* msmcl_build_sat_layered and msmcl_build_sat_layered_device. */
+static void test_translucent_sat(msmcl_context* context, const float* depth) {
+    cl_context cl = msmcl_context_cl_context(context);
+    cl_command_queue queue = msmcl_context_cl_queue(context);
+    const size_t texels = WIDTH * HEIGHT;
+    const size_t words = 4 * texels;
+    float* layer_depth = malloc(sizeof(float) * LAYERS * VALUES);
+    float* layer_opacity = malloc(sizeof(float) * LAYERS * VALUES);
+    float* clear_opacity = calloc((size_t)LAYERS * VALUES, sizeof(float));
+    uint32_t* expected = malloc(sizeof(uint32_t) * words);
+    uint32_t* table = malloc(sizeof(uint32_t) * words);
+    msmcl_translucent_layer layers[LAYERS], clear[LAYERS];
+    msmcl_sat_options options;
+    msmcl_status status;
+    uint32_t scale = 0;
+    double worst = 0.0, tolerance;
+
+    make_layers(layer_depth, layer_opacity);
+    layer_views(layer_depth, layer_opacity, layers);
+    layer_views(layer_depth, clear_opacity, clear);
+    msmcl_sat_options_init(&options);
+    CHECK_OK(msmcl_sat_scale(options.max_kernel_texels, &scale));
+
+    /* No layers and clear layers: the opaque table's bits. */
+    CHECK_OK(msmcl_build_sat(context, depth, WIDTH, HEIGHT, SAMPLES, &options, expected, words));
+    CHECK_OK(msmcl_build_sat_layered(context, depth, WIDTH, HEIGHT, SAMPLES, NULL, 0, &options, table, words));
+    CHECK(memcmp(table, expected, sizeof(uint32_t) * words) == 0, "no layers differs from msmcl_build_sat");
+    CHECK_OK(msmcl_build_sat_layered(context, depth, WIDTH, HEIGHT, SAMPLES, clear, LAYERS, &options, table, words));
+    CHECK(memcmp(table, expected, sizeof(uint32_t) * words) == 0, "clear layers differ from msmcl_build_sat");
+
+    /* Translucent: each texel, recovered by wrapping differences, against round(c * scale) of
+     * the double msm64 channels of the composited moments (SPEC sections 3, 5). */
+    CHECK_OK(msmcl_build_sat_layered(context, depth, WIDTH, HEIGHT, SAMPLES, layers, LAYERS, &options, expected, words));
+    for (int y = 0; y < HEIGHT; ++y)
+        for (int x = 0; x < WIDTH; ++x) {
+            double b[4] = {0, 0, 0, 0}, channel[4];
+            size_t t = (size_t)y * WIDTH + x;
+            for (int s = 0; s < SAMPLES; ++s)
+                add_composite_moments(depth, layer_depth, layer_opacity, t * SAMPLES + s, 1.0 / SAMPLES, b);
+            channel[0] = 1.5 * b[0] - 2.0 * b[2] + 0.5;
+            channel[1] = 4.0 * b[1] - 4.0 * b[3];
+            channel[2] = sqrt(3.0) * (0.5 * b[0] - 2.0 * b[2] / 9.0) + 0.5;
+            channel[3] = 0.5 * b[1] + 0.5 * b[3];
+            for (int c = 0; c < 4; ++c) {
+                uint32_t here = expected[4 * t + c];
+                uint32_t left = x > 0 ? expected[4 * (t - 1) + c] : 0u;
+                uint32_t up = y > 0 ? expected[4 * (t - WIDTH) + c] : 0u;
+                uint32_t corner = x > 0 && y > 0 ? expected[4 * (t - WIDTH - 1) + c] : 0u;
+                uint32_t texel = here - left - up + corner; /* mod 2^32 */
+                double error = fabs((double)texel - channel[c] * scale);
+                if (error > worst) worst = error;
+            }
+        }
+    /* float32 composite (3e-6, as for filter) times the channel scale, plus the rounding. */
+    tolerance = 3e-6 * scale + 1.0;
+    printf("capi_test: translucent SAT texels vs double reference: worst %.1f units (tolerance %.1f)\n", worst,
+           tolerance);
+    CHECK(worst <= tolerance, "translucent SAT texels off by %.1f units", worst);
+
+    /* Device: buffers without host access, against the host table. */
+    {
+        cl_mem depth_buffer = device_only_buffer(cl, queue, sizeof(float) * VALUES, depth);
+        cl_mem depth_layers = device_only_buffer(cl, queue, sizeof(float) * LAYERS * VALUES, layer_depth);
+        cl_mem opacity_layers = device_only_buffer(cl, queue, sizeof(float) * LAYERS * VALUES, layer_opacity);
+        cl_mem table_buffer =
+            clCreateBuffer(cl, CL_MEM_READ_WRITE | CL_MEM_HOST_NO_ACCESS, sizeof(uint32_t) * words, NULL, NULL);
+        cl_mem table_image = image_2d(cl, msmcl_sat_image_format());
+        msmcl_device_depth device_depth = {depth_buffer, WIDTH, HEIGHT, SAMPLES, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+        msmcl_device_layers device_layers = {depth_layers, opacity_layers, LAYERS};
+        msmcl_enqueue enqueue;
+        memset(&enqueue, 0, sizeof enqueue);
+        enqueue.blocking = 1;
+        CHECK_OK(msmcl_build_sat_layered_device(context, &device_depth, &device_layers, table_buffer, &options,
+                                                &enqueue));
+        read_device_buffer(cl, queue, table_buffer, sizeof(uint32_t) * words, table);
+        CHECK(memcmp(table, expected, sizeof(uint32_t) * words) == 0, "layered device SAT differs from the host table");
+
+        status = msmcl_build_sat_layered_device(context, &device_depth, &device_layers, table_image, &options, NULL);
+        CHECK(status == MSMCL_ERROR_INPUT && strstr(msmcl_last_error_message(), "buffer"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+        /* No layers: msmcl_build_sat_device, images included. */
+        CHECK_OK(msmcl_build_sat(context, depth, WIDTH, HEIGHT, SAMPLES, &options, expected, words));
+        CHECK_OK(msmcl_build_sat_layered_device(context, &device_depth, NULL, table_image, &options, NULL));
+        read_device_image(cl, queue, table_image, 16, table, NULL);
+        CHECK(memcmp(table, expected, sizeof(uint32_t) * words) == 0, "NULL layers into an image differs");
+        device_layers.depth = NULL;
+        status = msmcl_build_sat_layered_device(context, &device_depth, &device_layers, table_buffer, &options, NULL);
+        CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "depth"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+
+        clReleaseMemObject(table_image);
+        clReleaseMemObject(table_buffer);
+        clReleaseMemObject(opacity_layers);
+        clReleaseMemObject(depth_layers);
+        clReleaseMemObject(depth_buffer);
+    }
+
+    /* Host errors. */
+    status = msmcl_build_sat_layered(context, depth, WIDTH, HEIGHT, SAMPLES, NULL, 1, &options, table, words);
+    CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "layers is NULL"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    layer_opacity[11] = -0.25f;
+    status = msmcl_build_sat_layered(context, depth, WIDTH, HEIGHT, SAMPLES, layers, LAYERS, &options, table, words);
+    CHECK(status == MSMCL_ERROR_INPUT && strstr(msmcl_last_error_message(), "opacity"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+
+    free(layer_depth);
+    free(layer_opacity);
+    free(clear_opacity);
+    free(expected);
+    free(table);
+}
+
+/* ---- Dithered lookup */
+
+enum { RECEIVERS = 600, DITHER_SCREEN_WIDTH = 41, DITHER_FRAMES = 64 };
+
+static int clamp_index(int i, int size) { return i < 0 ? 0 : i >= size ? size - 1 : i; }
+
+/* msmcl_shade(_with_pixels)(_device) with MSMCL_LOOKUP_DITHER. */
+static void test_dither(msmcl_context* context, const float* depth) {
+    cl_context cl = msmcl_context_cl_context(context);
+    cl_command_queue queue = msmcl_context_cl_queue(context);
+    const size_t map_bytes = sizeof(unsigned short) * 4 * WIDTH * HEIGHT;
+    unsigned short* map = malloc(map_bytes);
+    float u[RECEIVERS], v[RECEIVERS], z[RECEIVERS], dither[RECEIVERS], other[RECEIVERS], mean[RECEIVERS];
+    float corner_u[4][RECEIVERS], corner_v[4][RECEIVERS], corner[4][RECEIVERS];
+    uint32_t pixel_x[RECEIVERS], pixel_y[RECEIVERS];
+    msmcl_filter_options filter_options;
+    msmcl_shade_options options;
+    msmcl_status status;
+    int not_a_texel = 0, frames_differ = 0, spread = 0;
+    double z_sum = 0.0, z2_sum = 0.0, rms = 0.0;
+
+    /* An nlq64 map (shades texels, blends intensities) of the test depth; receivers over the
+     * map and a margin (clamped to the edge); pixels anywhere on a 1080p screen. */
+    msmcl_filter_options_init(&filter_options);
+    CHECK_OK(msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &filter_options, map, map_bytes));
+    for (int i = 0; i < RECEIVERS; ++i) {
+        u[i] = -2.0f + (WIDTH + 4) * random_unit();
+        v[i] = -2.0f + (HEIGHT + 4) * random_unit();
+        z[i] = random_unit();
+        pixel_x[i] = (uint32_t)(1920 * random_unit());
+        pixel_y[i] = (uint32_t)(1080 * random_unit());
+    }
+
+    msmcl_shade_options_init(&options);
+    CHECK(options.frame == 0 && options.screen_width == 0, "dither defaults %u %u", options.frame,
+          options.screen_width);
+
+    /* The four texel centres around (u - 0.5, v - 0.5), each shaded by the nearest lookup. */
+    options.lookup = MSMCL_LOOKUP_NEAREST;
+    for (int k = 0; k < 4; ++k) {
+        for (int i = 0; i < RECEIVERS; ++i) {
+            int x0 = (int)floorf(u[i] - 0.5f), y0 = (int)floorf(v[i] - 0.5f);
+            corner_u[k][i] = (float)clamp_index(x0 + (k & 1), WIDTH) + 0.5f;
+            corner_v[k][i] = (float)clamp_index(y0 + (k >> 1), HEIGHT) + 0.5f;
+        }
+        CHECK_OK(msmcl_shade(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, corner_u[k], corner_v[k], z,
+                             RECEIVERS, &options, corner[k]));
+    }
+
+    /* Each dithered result is one of those texels' shadows, bit for bit; frames differ. */
+    options.lookup = MSMCL_LOOKUP_DITHER;
+    options.frame = 5;
+    CHECK_OK(msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, pixel_x,
+                                     pixel_y, RECEIVERS, &options, dither));
+    for (int i = 0; i < RECEIVERS; ++i)
+        not_a_texel += dither[i] != corner[0][i] && dither[i] != corner[1][i] && dither[i] != corner[2][i] &&
+                       dither[i] != corner[3][i];
+    CHECK(not_a_texel == 0, "%d dithered receivers are none of their texels", not_a_texel);
+    options.frame = 6;
+    CHECK_OK(msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, pixel_x,
+                                     pixel_y, RECEIVERS, &options, other));
+    for (int i = 0; i < RECEIVERS; ++i) frames_differ += dither[i] != other[i];
+    CHECK(frames_differ > 0, "frames 5 and 6 give the same dither");
+
+    /* Row-major pixels: screen_width W equals explicit pixels (i % W, i / W); 0 is one row. */
+    options.frame = 9;
+    options.screen_width = DITHER_SCREEN_WIDTH;
+    {
+        uint32_t row_x[RECEIVERS], row_y[RECEIVERS];
+        for (int i = 0; i < RECEIVERS; ++i) {
+            row_x[i] = (uint32_t)i % DITHER_SCREEN_WIDTH;
+            row_y[i] = (uint32_t)i / DITHER_SCREEN_WIDTH;
+        }
+        CHECK_OK(msmcl_shade(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, RECEIVERS, &options,
+                             dither));
+        CHECK_OK(msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, row_x,
+                                         row_y, RECEIVERS, &options, other));
+        CHECK(memcmp(dither, other, sizeof dither) == 0, "screen_width differs from explicit row-major pixels");
+        options.screen_width = 0;
+        for (int i = 0; i < RECEIVERS; ++i) {
+            row_x[i] = (uint32_t)i;
+            row_y[i] = 0;
+        }
+        CHECK_OK(msmcl_shade(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, RECEIVERS, &options,
+                             dither));
+        CHECK_OK(msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, row_x,
+                                         row_y, RECEIVERS, &options, other));
+        CHECK(memcmp(dither, other, sizeof dither) == 0, "screen_width 0 differs from pixels (i, 0)");
+    }
+
+    /* Device: pixel buffer, and row-major pixels, against the host path. */
+    {
+        float uvz[3 * RECEIVERS];
+        uint32_t xy[2 * RECEIVERS];
+        cl_mem map_buffer, uvz_buffer, xy_buffer, out;
+        cl_int error = CL_SUCCESS;
+        msmcl_enqueue enqueue;
+        memcpy(uvz, u, sizeof u);
+        memcpy(uvz + RECEIVERS, v, sizeof v);
+        memcpy(uvz + 2 * RECEIVERS, z, sizeof z);
+        memcpy(xy, pixel_x, sizeof pixel_x);
+        memcpy(xy + RECEIVERS, pixel_y, sizeof pixel_y);
+        map_buffer = device_only_buffer(cl, queue, map_bytes, map);
+        uvz_buffer = device_only_buffer(cl, queue, sizeof uvz, uvz);
+        xy_buffer = device_only_buffer(cl, queue, sizeof xy, xy);
+        out = clCreateBuffer(cl, CL_MEM_READ_WRITE | CL_MEM_HOST_NO_ACCESS, sizeof dither, NULL, &error);
+        CHECK(error == CL_SUCCESS, "clCreateBuffer %d", error);
+        memset(&enqueue, 0, sizeof enqueue);
+        enqueue.blocking = 1;
+
+        options.frame = 12;
+        options.screen_width = 0;
+        CHECK_OK(msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, pixel_x,
+                                         pixel_y, RECEIVERS, &options, dither));
+        CHECK_OK(msmcl_shade_with_pixels_device(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map_buffer, uvz_buffer,
+                                                xy_buffer, RECEIVERS, out, &options, &enqueue));
+        read_device_buffer(cl, queue, out, sizeof other, other);
+        CHECK(memcmp(dither, other, sizeof dither) == 0, "device dither with pixels differs from the host path");
+
+        options.screen_width = DITHER_SCREEN_WIDTH;
+        CHECK_OK(msmcl_shade(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, RECEIVERS, &options,
+                             dither));
+        CHECK_OK(msmcl_shade_device(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map_buffer, uvz_buffer, RECEIVERS, out,
+                                    &options, &enqueue));
+        read_device_buffer(cl, queue, out, sizeof other, other);
+        CHECK(memcmp(dither, other, sizeof dither) == 0, "device dither, row-major, differs from the host path");
+        memset(other, 0, sizeof other);
+        CHECK_OK(msmcl_shade_with_pixels_device(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map_buffer, uvz_buffer,
+                                                NULL, RECEIVERS, out, &options, &enqueue));
+        read_device_buffer(cl, queue, out, sizeof other, other);
+        CHECK(memcmp(dither, other, sizeof dither) == 0, "device dither, NULL pixels, differs from the host path");
+
+        clReleaseMemObject(out);
+        clReleaseMemObject(xy_buffer);
+        clReleaseMemObject(uvz_buffer);
+        clReleaseMemObject(map_buffer);
+    }
+
+    /* The other lookups ignore pixels and frame. */
+    options.lookup = MSMCL_LOOKUP_BILINEAR;
+    options.frame = 0;
+    options.screen_width = 0;
+    CHECK_OK(msmcl_shade(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, RECEIVERS, &options,
+                         dither));
+    options.frame = 3;
+    CHECK_OK(msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, pixel_x,
+                                     pixel_y, RECEIVERS, &options, other));
+    CHECK(memcmp(dither, other, sizeof dither) == 0, "bilinear depends on pixels or frame");
+
+    /* Over DITHER_FRAMES frames the mean is the bilinear blend sum_k w_k s_k of the shaded
+     * texels: per frame texel x0 + 1 is picked with probability tx (a uniform noise level),
+     * so mean - blend has variance sum_k w_k (s_k - blend)^2 / F. Standardized errors must
+     * have mean ~0 and mean square ~1 (tests/dither_test.cpp runs this with 256 frames). */
+    options.lookup = MSMCL_LOOKUP_DITHER;
+    memset(mean, 0, sizeof mean);
+    for (int f = 0; f < DITHER_FRAMES; ++f) {
+        options.frame = (uint32_t)f;
+        CHECK_OK(msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, pixel_x,
+                                         pixel_y, RECEIVERS, &options, dither));
+        for (int i = 0; i < RECEIVERS; ++i) mean[i] += dither[i] / (float)DITHER_FRAMES;
+    }
+    for (int i = 0; i < RECEIVERS; ++i) {
+        float fx = u[i] - 0.5f < -1.0f ? -1.0f : u[i] - 0.5f > WIDTH ? (float)WIDTH : u[i] - 0.5f;
+        float fy = v[i] - 0.5f < -1.0f ? -1.0f : v[i] - 0.5f > HEIGHT ? (float)HEIGHT : v[i] - 0.5f;
+        double tx = fx - floorf(fx), ty = fy - floorf(fy);
+        double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+        double blend = 0.0, variance = 0.0, error;
+        for (int k = 0; k < 4; ++k) blend += w[k] * corner[k][i];
+        for (int k = 0; k < 4; ++k) variance += w[k] * (corner[k][i] - blend) * (corner[k][i] - blend);
+        error = mean[i] - blend;
+        rms += error * error / RECEIVERS;
+        if (variance < 1e-6) continue; /* the four texels (nearly) alike: nothing to average */
+        z_sum += error / sqrt(variance / DITHER_FRAMES);
+        z2_sum += error * error / (variance / DITHER_FRAMES);
+        ++spread;
+    }
+    printf("capi_test: dither over %d frames vs bilinear blend: rms %.4f; %d receivers with spread, standardized "
+           "mean %.3f, mean square %.3f\n",
+           DITHER_FRAMES, sqrt(rms), spread, spread ? z_sum / spread : 0.0, spread ? z2_sum / spread : 0.0);
+    CHECK(spread >= RECEIVERS / 3, "only %d receivers with spread", spread);
+    if (spread > 0) {
+        /* Over n >= 200 receivers the mean of z has sd <= 0.07 and the mean square sd ~0.1
+         * for unbiased picks (seeds 1-5: |mean| <= 0.07, mean square 0.97-1.08); a pick
+         * shifted by half a texel, or frames that repeat the noise, fail by far. */
+        CHECK(fabs(z_sum / spread) < 0.3, "standardized mean %.3f", z_sum / spread);
+        CHECK(z2_sum / spread > 0.6 && z2_sum / spread < 1.6, "standardized mean square %.3f", z2_sum / spread);
+    }
+
+    /* Errors: an unknown lookup and a lone pixel array are argument errors. */
+    options.lookup = (msmcl_lookup)3;
+    status = msmcl_shade(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, RECEIVERS, &options,
+                         dither);
+    CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "unknown lookup 3"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    status = msmcl_shade_with_pixels_device(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, NULL, NULL, NULL, 1, NULL,
+                                            &options, NULL);
+    CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "unknown lookup"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    options.lookup = MSMCL_LOOKUP_DITHER;
+    status = msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, pixel_x, NULL,
+                                     RECEIVERS, &options, dither);
+    CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "pixel_y"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    u[17] = NAN;
+    status = msmcl_shade_with_pixels(context, MSMCL_FORMAT_NLQ64, WIDTH, HEIGHT, map, map_bytes, u, v, z, pixel_x,
+                                     pixel_y, RECEIVERS, &options, dither);
+    CHECK(status == MSMCL_ERROR_INPUT && strstr(msmcl_last_error_message(), "receiver 17"), "%s: %s",
+          msmcl_status_name(status), msmcl_last_error_message());
+    free(map);
+}
+
 int main(void) {
     const char* seed_text = getenv("MSMCL_TEST_SEED");
     unsigned int seed = seed_text ? (unsigned int)strtoul(seed_text, NULL, 10) : 6u;
@@ -365,6 +940,9 @@ int main(void) {
         test_device_paths(context, depth);
         test_shade(context);
         test_sat(context, depth);
+        test_translucent_filter(context, depth);
+        test_translucent_sat(context, depth);
+        test_dither(context, depth);
         CHECK_OK(msmcl_context_finish(context));
         msmcl_context_destroy(context);
     }

@@ -118,10 +118,13 @@ msmcl::ShadeOptions to_shade_options(const msmcl_shade_options* options, const c
     switch (c.lookup) {
     case MSMCL_LOOKUP_NEAREST: result.lookup = msmcl::Lookup::nearest; break;
     case MSMCL_LOOKUP_BILINEAR: result.lookup = msmcl::Lookup::bilinear; break;
+    case MSMCL_LOOKUP_DITHER: result.lookup = msmcl::Lookup::dither; break;
     default: throw invalid_argument{std::string(call) + ": unknown lookup " + std::to_string(static_cast<int>(c.lookup))};
     }
     result.depth_bias = c.depth_bias;
     result.depth_range = to_depth_range(c.depth_range, call);
+    result.frame = c.frame;
+    result.screen_width = c.screen_width;
     return result;
 }
 
@@ -197,6 +200,181 @@ msmcl::DepthImage to_depth_image(const float* depth, int width, int height, int 
     image.samples = samples;
     image.depth.assign(depth, depth + texels * static_cast<std::size_t>(samples));
     return image;
+}
+
+static_assert(MSMCL_MAX_TRANSLUCENT_LAYERS == msmcl::max_translucent_layers, "msmcl.h and filter.hpp disagree");
+
+// Host layers: count arrays of `values` floats each (depth, opacity), copied.
+std::vector<msmcl::TranslucentLayer> to_layers(const msmcl_translucent_layer* layers, std::size_t count,
+                                               std::size_t values, const char* call) {
+    if (count > 0 && !layers)
+        throw invalid_argument{std::string(call) + ": layers is NULL but layer_count is " + std::to_string(count)};
+    // Refuse too many layers before copying them (the C++ API would, after).
+    if (count > static_cast<std::size_t>(msmcl::max_translucent_layers))
+        throw msmcl::input_error(std::string(call) + ": " + std::to_string(count) + " translucent layers (at most " +
+                                 std::to_string(msmcl::max_translucent_layers) + ")");
+    std::vector<msmcl::TranslucentLayer> result(count);
+    for (std::size_t k = 0; k < count; ++k) {
+        if (!layers[k].depth || !layers[k].opacity)
+            throw invalid_argument{std::string(call) + ": layers[" + std::to_string(k) + "]." +
+                                   (layers[k].depth ? "opacity" : "depth") + " is NULL"};
+        result[k].depth.assign(layers[k].depth, layers[k].depth + values);
+        result[k].opacity.assign(layers[k].opacity, layers[k].opacity + values);
+    }
+    return result;
+}
+
+// Device layers: none for NULL; buffers required when count > 0.
+msmcl::DeviceLayers to_device_layers(const msmcl_device_layers* layers, const char* call) {
+    if (!layers) return {};
+    if (layers->count > 0 && (!layers->depth || !layers->opacity))
+        throw invalid_argument{std::string(call) + ": layers->" + (layers->depth ? "opacity" : "depth") +
+                               " is NULL but layers->count is " + std::to_string(layers->count)};
+    return msmcl::DeviceLayers{layers->depth, layers->opacity, layers->count};
+}
+
+// Translucent layers on the device go with buffers only (the C++ API has no image overloads).
+void require_buffers_for_layers(cl_mem depth, cl_mem output, const char* output_name, const char* call) {
+    if (!is_buffer(depth))
+        throw msmcl::input_error(std::string(call) + ": translucent layers need the depth in a buffer, not an image");
+    if (!is_buffer(output))
+        throw msmcl::input_error(std::string(call) + ": translucent layers need the " + output_name +
+                                 " in a buffer, not an image");
+}
+
+// msmcl_filter and msmcl_filter_layered.
+void filter_host(msmcl_context* context, const float* depth, int width, int height, int samples,
+                 const msmcl_translucent_layer* layers, std::size_t layer_count, const msmcl_filter_options* options,
+                 void* texture, std::size_t texture_bytes, const char* call) {
+    require(context, call, "context");
+    require(texture, call, "texture");
+    const msmcl::FilterOptions filter_options = to_filter_options(options, call);
+    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
+    const std::size_t needed = image.depth.size() / samples * msmcl::texel_bytes(filter_options.format);
+    if (texture_bytes < needed)
+        throw invalid_argument{std::string(call) + ": texture_bytes is " + std::to_string(texture_bytes) + ", a " +
+                               std::to_string(width) + "x" + std::to_string(height) + " " +
+                               msmcl::format_name(filter_options.format) + " texture needs " + std::to_string(needed)};
+    const std::vector<msmcl::TranslucentLayer> translucent = to_layers(layers, layer_count, image.depth.size(), call);
+    const msmcl::Texture result = msmcl::filter(context->context, image, translucent, filter_options);
+    std::memcpy(texture, result.words.data(), needed);
+}
+
+// msmcl_filter_device and msmcl_filter_layered_device: buffers or images, as the cl_mem types say.
+void filter_device(msmcl_context* context, const msmcl_device_depth* depth, const msmcl_device_layers* layers,
+                   cl_mem texture, const msmcl_filter_options* options, const msmcl_enqueue* enqueue,
+                   const char* call) {
+    require(context, call, "context");
+    require(depth, call, "depth");
+    if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
+    if (!texture) throw invalid_argument{std::string(call) + ": texture is NULL"};
+    const msmcl::FilterOptions filter_options = to_filter_options(options, call);
+    const msmcl::DeviceLayers device_layers = to_device_layers(layers, call);
+    const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+    // With layers (or a bad count, which the C++ API reports): buffers only.
+    if (device_layers.count != 0) {
+        require_buffers_for_layers(depth->memory, texture, "texture", call);
+        msmcl::filter(context->context, to_device_depth(*depth), device_layers, texture, filter_options, plumbing);
+        return;
+    }
+    const bool depth_in_buffer = is_buffer(depth->memory);
+    const bool texture_in_buffer = is_buffer(texture);
+    if (depth_in_buffer && texture_in_buffer)
+        msmcl::filter(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
+    else if (depth_in_buffer)
+        msmcl::filter_to_image(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
+    else if (texture_in_buffer)
+        msmcl::filter(context->context, to_device_depth_image(*depth, call), texture, filter_options, plumbing);
+    else
+        msmcl::filter_to_image(context->context, to_device_depth_image(*depth, call), texture, filter_options,
+                               plumbing);
+}
+
+// msmcl_shade and msmcl_shade_with_pixels.
+void shade_host(msmcl_context* context, msmcl_format format, int width, int height, const void* texture,
+                std::size_t texture_bytes, const float* u, const float* v, const float* z, const uint32_t* pixel_x,
+                const uint32_t* pixel_y, std::size_t count, const msmcl_shade_options* options, float* intensity,
+                const char* call) {
+    require(context, call, "context");
+    require(texture, call, "texture");
+    if (!pixel_x != !pixel_y)
+        throw invalid_argument{std::string(call) + ": pixel_" + (pixel_x ? "y" : "x") + " is NULL but pixel_" +
+                               (pixel_x ? "x" : "y") + " is not"};
+    const msmcl::ShadeOptions shade_options = to_shade_options(options, call);
+    msmcl::Texture map;
+    map.format = to_format(format, call);
+    map.width = width;
+    map.height = height;
+    const std::size_t needed = texel_count(width, height, call) * msmcl::texel_bytes(map.format);
+    if (texture_bytes < needed)
+        throw invalid_argument{std::string(call) + ": texture_bytes is " + std::to_string(texture_bytes) + ", a " +
+                               std::to_string(width) + "x" + std::to_string(height) + " " +
+                               msmcl::format_name(map.format) + " texture needs " + std::to_string(needed)};
+    map.words.resize(needed / sizeof(std::uint32_t));
+    std::memcpy(map.words.data(), texture, needed);
+    msmcl::Receivers receivers;
+    msmcl::ReceiverPixels pixels;
+    if (count > 0) {
+        require(u, call, "u");
+        require(v, call, "v");
+        require(z, call, "z");
+        require(intensity, call, "intensity");
+        receivers.u.assign(u, u + count);
+        receivers.v.assign(v, v + count);
+        receivers.z.assign(z, z + count);
+        if (pixel_x) {
+            pixels.x.assign(pixel_x, pixel_x + count);
+            pixels.y.assign(pixel_y, pixel_y + count);
+        }
+    }
+    const std::vector<float> result = msmcl::shade(context->context, map, receivers, pixels, shade_options);
+    if (count > 0) std::memcpy(intensity, result.data(), count * sizeof(float));
+}
+
+// msmcl_build_sat and msmcl_build_sat_layered.
+void build_sat_host(msmcl_context* context, const float* depth, int width, int height, int samples,
+                    const msmcl_translucent_layer* layers, std::size_t layer_count, const msmcl_sat_options* options,
+                    uint32_t* table, std::size_t table_words, const char* call) {
+    require(context, call, "context");
+    require(table, call, "table");
+    const msmcl::SatOptions sat_options = to_sat_options(options, call);
+    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
+    const std::size_t needed = 4 * (image.depth.size() / samples);
+    if (table_words < needed)
+        throw invalid_argument{std::string(call) + ": table_words is " + std::to_string(table_words) + ", a " +
+                               std::to_string(width) + "x" + std::to_string(height) + " table needs " +
+                               std::to_string(needed)};
+    const std::vector<msmcl::TranslucentLayer> translucent = to_layers(layers, layer_count, image.depth.size(), call);
+    const msmcl::SatTable result = msmcl::build_sat(context->context, image, translucent, sat_options);
+    std::memcpy(table, result.words.data(), needed * sizeof(std::uint32_t));
+}
+
+// msmcl_build_sat_device and msmcl_build_sat_layered_device.
+void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, const msmcl_device_layers* layers,
+                      cl_mem table, const msmcl_sat_options* options, const msmcl_enqueue* enqueue, const char* call) {
+    require(context, call, "context");
+    require(depth, call, "depth");
+    if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
+    if (!table) throw invalid_argument{std::string(call) + ": table is NULL"};
+    const msmcl::SatOptions sat_options = to_sat_options(options, call);
+    const msmcl::DeviceLayers device_layers = to_device_layers(layers, call);
+    const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+    // With layers (or a bad count, which the C++ API reports): buffers only.
+    if (device_layers.count != 0) {
+        require_buffers_for_layers(depth->memory, table, "table", call);
+        msmcl::build_sat(context->context, to_device_depth(*depth), device_layers, table, sat_options, plumbing);
+        return;
+    }
+    const bool depth_in_buffer = is_buffer(depth->memory);
+    const bool table_in_buffer = is_buffer(table);
+    if (depth_in_buffer && table_in_buffer)
+        msmcl::build_sat(context->context, to_device_depth(*depth), table, sat_options, plumbing);
+    else if (depth_in_buffer)
+        msmcl::build_sat_to_image(context->context, to_device_depth(*depth), table, sat_options, plumbing);
+    else if (table_in_buffer)
+        msmcl::build_sat(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
+    else
+        msmcl::build_sat_to_image(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
 }
 
 } // namespace
@@ -345,44 +523,30 @@ void msmcl_filter_options_init(msmcl_filter_options* options) {
 msmcl_status msmcl_filter(msmcl_context* context, const float* depth, int width, int height, int samples,
                           const msmcl_filter_options* options, void* texture, size_t texture_bytes) {
     return guarded([&] {
-        const char* call = "msmcl_filter";
-        require(context, call, "context");
-        require(texture, call, "texture");
-        const msmcl::FilterOptions filter_options = to_filter_options(options, call);
-        const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
-        const std::size_t needed = image.depth.size() / samples * msmcl::texel_bytes(filter_options.format);
-        if (texture_bytes < needed)
-            throw invalid_argument{std::string(call) + ": texture_bytes is " + std::to_string(texture_bytes) + ", a " +
-                                   std::to_string(width) + "x" + std::to_string(height) + " " +
-                                   msmcl::format_name(filter_options.format) + " texture needs " +
-                                   std::to_string(needed)};
-        const msmcl::Texture result = msmcl::filter(context->context, image, filter_options);
-        std::memcpy(texture, result.words.data(), needed);
+        filter_host(context, depth, width, height, samples, nullptr, 0, options, texture, texture_bytes,
+                    "msmcl_filter");
+    });
+}
+
+msmcl_status msmcl_filter_layered(msmcl_context* context, const float* depth, int width, int height, int samples,
+                                  const msmcl_translucent_layer* layers, size_t layer_count,
+                                  const msmcl_filter_options* options, void* texture, size_t texture_bytes) {
+    return guarded([&] {
+        filter_host(context, depth, width, height, samples, layers, layer_count, options, texture, texture_bytes,
+                    "msmcl_filter_layered");
     });
 }
 
 msmcl_status msmcl_filter_device(msmcl_context* context, const msmcl_device_depth* depth, cl_mem texture,
                                  const msmcl_filter_options* options, const msmcl_enqueue* enqueue) {
-    return guarded([&] {
-        const char* call = "msmcl_filter_device";
-        require(context, call, "context");
-        require(depth, call, "depth");
-        if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
-        if (!texture) throw invalid_argument{std::string(call) + ": texture is NULL"};
-        const msmcl::FilterOptions filter_options = to_filter_options(options, call);
-        const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
-        const bool depth_in_buffer = is_buffer(depth->memory);
-        const bool texture_in_buffer = is_buffer(texture);
-        if (depth_in_buffer && texture_in_buffer)
-            msmcl::filter(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
-        else if (depth_in_buffer)
-            msmcl::filter_to_image(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
-        else if (texture_in_buffer)
-            msmcl::filter(context->context, to_device_depth_image(*depth, call), texture, filter_options, plumbing);
-        else
-            msmcl::filter_to_image(context->context, to_device_depth_image(*depth, call), texture, filter_options,
-                                   plumbing);
-    });
+    return guarded([&] { filter_device(context, depth, nullptr, texture, options, enqueue, "msmcl_filter_device"); });
+}
+
+msmcl_status msmcl_filter_layered_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                         const msmcl_device_layers* layers, cl_mem texture,
+                                         const msmcl_filter_options* options, const msmcl_enqueue* enqueue) {
+    return guarded(
+        [&] { filter_device(context, depth, layers, texture, options, enqueue, "msmcl_filter_layered_device"); });
 }
 
 void msmcl_shade_options_init(msmcl_shade_options* options) {
@@ -391,39 +555,26 @@ void msmcl_shade_options_init(msmcl_shade_options* options) {
     options->lookup = static_cast<msmcl_lookup>(defaults.lookup);
     options->depth_bias = defaults.depth_bias;
     options->depth_range = static_cast<msmcl_depth_range>(defaults.depth_range);
+    options->frame = defaults.frame;
+    options->screen_width = defaults.screen_width;
 }
 
 msmcl_status msmcl_shade(msmcl_context* context, msmcl_format format, int width, int height, const void* texture,
                          size_t texture_bytes, const float* u, const float* v, const float* z, size_t count,
                          const msmcl_shade_options* options, float* intensity) {
     return guarded([&] {
-        const char* call = "msmcl_shade";
-        require(context, call, "context");
-        require(texture, call, "texture");
-        const msmcl::ShadeOptions shade_options = to_shade_options(options, call);
-        msmcl::Texture map;
-        map.format = to_format(format, call);
-        map.width = width;
-        map.height = height;
-        const std::size_t needed = texel_count(width, height, call) * msmcl::texel_bytes(map.format);
-        if (texture_bytes < needed)
-            throw invalid_argument{std::string(call) + ": texture_bytes is " + std::to_string(texture_bytes) + ", a " +
-                                   std::to_string(width) + "x" + std::to_string(height) + " " +
-                                   msmcl::format_name(map.format) + " texture needs " + std::to_string(needed)};
-        map.words.resize(needed / sizeof(std::uint32_t));
-        std::memcpy(map.words.data(), texture, needed);
-        msmcl::Receivers receivers;
-        if (count > 0) {
-            require(u, call, "u");
-            require(v, call, "v");
-            require(z, call, "z");
-            require(intensity, call, "intensity");
-            receivers.u.assign(u, u + count);
-            receivers.v.assign(v, v + count);
-            receivers.z.assign(z, z + count);
-        }
-        const std::vector<float> result = msmcl::shade(context->context, map, receivers, shade_options);
-        if (count > 0) std::memcpy(intensity, result.data(), count * sizeof(float));
+        shade_host(context, format, width, height, texture, texture_bytes, u, v, z, nullptr, nullptr, count, options,
+                   intensity, "msmcl_shade");
+    });
+}
+
+msmcl_status msmcl_shade_with_pixels(msmcl_context* context, msmcl_format format, int width, int height,
+                                     const void* texture, size_t texture_bytes, const float* u, const float* v,
+                                     const float* z, const uint32_t* pixel_x, const uint32_t* pixel_y, size_t count,
+                                     const msmcl_shade_options* options, float* intensity) {
+    return guarded([&] {
+        shade_host(context, format, width, height, texture, texture_bytes, u, v, z, pixel_x, pixel_y, count, options,
+                   intensity, "msmcl_shade_with_pixels");
     });
 }
 
@@ -436,6 +587,20 @@ msmcl_status msmcl_shade_device(msmcl_context* context, msmcl_format format, int
         const msmcl::ShadeOptions shade_options = to_shade_options(options, call);
         const msmcl::DeviceTexture map{texture, to_format(format, call), width, height};
         msmcl::shade(context->context, map, receivers_uvz, count, intensity, shade_options, to_enqueue(enqueue, call));
+    });
+}
+
+msmcl_status msmcl_shade_with_pixels_device(msmcl_context* context, msmcl_format format, int width, int height,
+                                            cl_mem texture, cl_mem receivers_uvz, cl_mem receiver_pixels, size_t count,
+                                            cl_mem intensity, const msmcl_shade_options* options,
+                                            const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        const char* call = "msmcl_shade_with_pixels_device";
+        require(context, call, "context");
+        const msmcl::ShadeOptions shade_options = to_shade_options(options, call);
+        const msmcl::DeviceTexture map{texture, to_format(format, call), width, height};
+        msmcl::shade(context->context, map, receivers_uvz, receiver_pixels, count, intensity, shade_options,
+                     to_enqueue(enqueue, call));
     });
 }
 
@@ -456,43 +621,31 @@ msmcl_status msmcl_sat_scale(uint32_t max_kernel_texels, uint32_t* scale) {
 msmcl_status msmcl_build_sat(msmcl_context* context, const float* depth, int width, int height, int samples,
                              const msmcl_sat_options* options, uint32_t* table, size_t table_words) {
     return guarded([&] {
-        const char* call = "msmcl_build_sat";
-        require(context, call, "context");
-        require(table, call, "table");
-        const msmcl::SatOptions sat_options = to_sat_options(options, call);
-        const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
-        const std::size_t needed = 4 * (image.depth.size() / samples);
-        if (table_words < needed)
-            throw invalid_argument{std::string(call) + ": table_words is " + std::to_string(table_words) + ", a " +
-                                   std::to_string(width) + "x" + std::to_string(height) + " table needs " +
-                                   std::to_string(needed)};
-        const msmcl::SatTable result = msmcl::build_sat(context->context, image, sat_options);
-        std::memcpy(table, result.words.data(), needed * sizeof(std::uint32_t));
+        build_sat_host(context, depth, width, height, samples, nullptr, 0, options, table, table_words,
+                       "msmcl_build_sat");
+    });
+}
+
+msmcl_status msmcl_build_sat_layered(msmcl_context* context, const float* depth, int width, int height, int samples,
+                                     const msmcl_translucent_layer* layers, size_t layer_count,
+                                     const msmcl_sat_options* options, uint32_t* table, size_t table_words) {
+    return guarded([&] {
+        build_sat_host(context, depth, width, height, samples, layers, layer_count, options, table, table_words,
+                       "msmcl_build_sat_layered");
     });
 }
 
 msmcl_status msmcl_build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, cl_mem table,
                                     const msmcl_sat_options* options, const msmcl_enqueue* enqueue) {
-    return guarded([&] {
-        const char* call = "msmcl_build_sat_device";
-        require(context, call, "context");
-        require(depth, call, "depth");
-        if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
-        if (!table) throw invalid_argument{std::string(call) + ": table is NULL"};
-        const msmcl::SatOptions sat_options = to_sat_options(options, call);
-        const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
-        const bool depth_in_buffer = is_buffer(depth->memory);
-        const bool table_in_buffer = is_buffer(table);
-        if (depth_in_buffer && table_in_buffer)
-            msmcl::build_sat(context->context, to_device_depth(*depth), table, sat_options, plumbing);
-        else if (depth_in_buffer)
-            msmcl::build_sat_to_image(context->context, to_device_depth(*depth), table, sat_options, plumbing);
-        else if (table_in_buffer)
-            msmcl::build_sat(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
-        else
-            msmcl::build_sat_to_image(context->context, to_device_depth_image(*depth, call), table, sat_options,
-                                      plumbing);
-    });
+    return guarded(
+        [&] { build_sat_device(context, depth, nullptr, table, options, enqueue, "msmcl_build_sat_device"); });
+}
+
+msmcl_status msmcl_build_sat_layered_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                            const msmcl_device_layers* layers, cl_mem table,
+                                            const msmcl_sat_options* options, const msmcl_enqueue* enqueue) {
+    return guarded(
+        [&] { build_sat_device(context, depth, layers, table, options, enqueue, "msmcl_build_sat_layered_device"); });
 }
 
 } // extern "C"

@@ -7,6 +7,11 @@
  * failed OpenCL call. Both are per thread, reset by each call that returns a status, and
  * valid until the next such call on the same thread.
  *
+ * Versions: before 1.0 every 0.x minor version may break the ABI (SONAME libmsmcl.so.0.1).
+ * The option structs grew in 0.1 (msmcl_shade_options: frame, screen_width); new fields
+ * only ever go at the end, so callers that fill a struct with its *_init function and
+ * then set fields stay source compatible, but must be rebuilt.
+ *
  * Threads: a context is not thread-safe; use one per thread (as msmcl::Context).
  * Memory: the library never keeps the caller's pointers past a call; it retains the
  * OpenCL objects of msmcl_context_create_from_cl and releases only what it retained.
@@ -17,7 +22,11 @@
  *    moments128 = 4 floats b1..b4; msm64/nlq64 = 4 uint16 codes (R, G, B, A);
  *    nlq32 = 1 uint32;
  *  - summed-area tables: 4 uint32 per texel (R, G, B, A);
- *  - device receivers: 3 * count floats, planar (all u, all v, all z).
+ *  - device receivers: 3 * count floats, planar (all u, all v, all z);
+ *  - translucent layers: per layer a depth and an opacity array, each as the depth map
+ *    (host: one array per layer; device: the layers one after the other in one buffer);
+ *  - receivers' screen pixels (dither): host: two arrays x, y of count uint32; device:
+ *    2 * count uint32, planar (all x, all y).
  */
 #ifndef MSMCL_MSMCL_H
 #define MSMCL_MSMCL_H
@@ -82,7 +91,13 @@ typedef enum msmcl_filter_kernel {
     MSMCL_FILTER_KERNEL_FUSED_CPU = 3
 } msmcl_filter_kernel;
 
-typedef enum msmcl_lookup { MSMCL_LOOKUP_NEAREST = 0, MSMCL_LOOKUP_BILINEAR = 1 } msmcl_lookup;
+typedef enum msmcl_lookup {
+    MSMCL_LOOKUP_NEAREST = 0,  /* texel floor(u), floor(v) */
+    MSMCL_LOOKUP_BILINEAR = 1, /* between the texel centres around (u - 0.5, v - 0.5) */
+    MSMCL_LOOKUP_DITHER = 2    /* one texel floor(u - 0.5 + nx), floor(v - 0.5 + ny), blue noise (nx, ny)
+                                  of the receiver's screen pixel and the frame; averaged over
+                                  frames, the bilinear blend of the shaded texels (since 0.1) */
+} msmcl_lookup;
 
 /* How the samples of a depth image lie (include/msmcl/interop.hpp, SampleLayout). */
 typedef enum msmcl_sample_layout {
@@ -185,12 +200,61 @@ MSMCL_C_API msmcl_status msmcl_filter_device(msmcl_context* context, const msmcl
                                              cl_mem texture, const msmcl_filter_options* options,
                                              const msmcl_enqueue* enqueue);
 
+/* ---- Translucent occluders (SPEC section 7; include/msmcl/filter.hpp, TranslucentLayer) */
+
+/* Most translucent layers one call composites. */
+#define MSMCL_MAX_TRANSLUCENT_LAYERS 8
+
+/* A translucent layer over a host depth map: `depth` (as rendered, in the map's depth
+ * range) and `opacity` (in [0, 1]; 0 where the layer has no surface) each hold width *
+ * height * samples floats laid out as the depth map. Per sample, the opaque surface
+ * (opacity 1) and the layers are alpha-blended nearest first, whatever the order of the
+ * layers: the texel stores the moments of sum_i prod_{j<i} (1 - a_j) a_i b(z_i). Neither
+ * pointer may be NULL; the library copies both during the call. */
+typedef struct msmcl_translucent_layer {
+    const float* depth;
+    const float* opacity;
+} msmcl_translucent_layer;
+
+/* msmcl_filter with `layer_count` translucent layers (at most MSMCL_MAX_TRANSLUCENT_LAYERS,
+ * more is MSMCL_ERROR_INPUT). `layers` may be NULL only when layer_count is 0 (then the
+ * result is msmcl_filter's); layers of opacity 0 give the same bits as none. Every layer
+ * value is validated (MSMCL_ERROR_INPUT names the first bad layer, texel and sample).
+ * `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_filter_layered(msmcl_context* context, const float* depth, int width, int height,
+                                              int samples, const msmcl_translucent_layer* layers, size_t layer_count,
+                                              const msmcl_filter_options* options, void* texture,
+                                              size_t texture_bytes);
+
+/* Translucent layers on the device (include/msmcl/filter.hpp, DeviceLayers): buffers
+ * `depth` and `opacity` each hold count * width * height * samples floats, layer after
+ * layer, each layer laid out as a depth buffer. count 0: no layers (the buffers may be NULL). */
+typedef struct msmcl_device_layers {
+    cl_mem depth;
+    cl_mem opacity;
+    int count;
+} msmcl_device_layers;
+
+/* msmcl_filter_device with translucent layers. With layers, `depth->memory` and `texture`
+ * must be buffers (an image is MSMCL_ERROR_INPUT); `layers` NULL or count 0 is exactly
+ * msmcl_filter_device (images allowed). Values are not validated on the device: depths
+ * clamp to the range (NaN = near plane), opacities clamp to [0, 1] (NaN = 0). `layers`,
+ * `options` and `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_filter_layered_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                                     const msmcl_device_layers* layers, cl_mem texture,
+                                                     const msmcl_filter_options* options,
+                                                     const msmcl_enqueue* enqueue);
+
 /* ---- Shade: shadow intensity (0 lit, 1 shadowed) of receivers */
 
 typedef struct msmcl_shade_options {
     msmcl_lookup lookup;           /* default MSMCL_LOOKUP_BILINEAR */
     float depth_bias;              /* subtracted from the receiver's internal depth; default 1e-3 */
     msmcl_depth_range depth_range; /* convention of the receivers' z; default zero_one */
+    /* Since 0.1; read by MSMCL_LOOKUP_DITHER only. */
+    uint32_t frame;        /* the frame number: its hash picks the blue-noise texture and shift; default 0 */
+    uint32_t screen_width; /* receivers without pixels: receiver i is pixel (i % screen_width,
+                              i / screen_width) of a row-major image; 0 = one row (pixel (i, 0)); default 0 */
 } msmcl_shade_options;
 
 MSMCL_C_API void msmcl_shade_options_init(msmcl_shade_options* options);
@@ -207,6 +271,25 @@ MSMCL_C_API msmcl_status msmcl_shade(msmcl_context* context, msmcl_format format
 MSMCL_C_API msmcl_status msmcl_shade_device(msmcl_context* context, msmcl_format format, int width, int height,
                                             cl_mem texture, cl_mem receivers_uvz, size_t count, cl_mem intensity,
                                             const msmcl_shade_options* options, const msmcl_enqueue* enqueue);
+
+/* msmcl_shade with the receivers' screen pixels, which the dithered lookup indexes the blue
+ * noise by (the other lookups ignore them): `pixel_x`, `pixel_y` count uint32 each, or both
+ * NULL (receivers are the pixels of a row-major image, see screen_width; one NULL alone is
+ * MSMCL_ERROR_INVALID_ARGUMENT). `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_shade_with_pixels(msmcl_context* context, msmcl_format format, int width, int height,
+                                                 const void* texture, size_t texture_bytes, const float* u,
+                                                 const float* v, const float* z, const uint32_t* pixel_x,
+                                                 const uint32_t* pixel_y, size_t count,
+                                                 const msmcl_shade_options* options, float* intensity);
+
+/* Device version: `receiver_pixels` a buffer of 2 * count uint32, planar (all x, all y), or
+ * NULL (row-major, see screen_width); the rest as msmcl_shade_device. `options` and
+ * `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_shade_with_pixels_device(msmcl_context* context, msmcl_format format, int width,
+                                                        int height, cl_mem texture, cl_mem receivers_uvz,
+                                                        cl_mem receiver_pixels, size_t count, cl_mem intensity,
+                                                        const msmcl_shade_options* options,
+                                                        const msmcl_enqueue* enqueue);
 
 /* ---- Summed-area tables of moments (soft shadows; include/msmcl/sat.hpp) */
 
@@ -230,6 +313,24 @@ MSMCL_C_API msmcl_status msmcl_build_sat(msmcl_context* context, const float* de
 MSMCL_C_API msmcl_status msmcl_build_sat_device(msmcl_context* context, const msmcl_device_depth* depth,
                                                 cl_mem table, const msmcl_sat_options* options,
                                                 const msmcl_enqueue* enqueue);
+
+/* The table of a translucent shadow map: each sample's surfaces composited as
+ * msmcl_filter_layered composites them, the texel the mean over its samples. `layers` and
+ * `layer_count` as for msmcl_filter_layered (NULL only with count 0: msmcl_build_sat's
+ * bits; layers of opacity 0 give the same bits as none). `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_build_sat_layered(msmcl_context* context, const float* depth, int width, int height,
+                                                 int samples, const msmcl_translucent_layer* layers,
+                                                 size_t layer_count, const msmcl_sat_options* options,
+                                                 uint32_t* table, size_t table_words);
+
+/* Device version: with layers, `depth->memory` and `table` must be buffers (an image is
+ * MSMCL_ERROR_INPUT); `layers` NULL or count 0 is exactly msmcl_build_sat_device. Values
+ * are not validated on the device (as msmcl_filter_layered_device). `layers`, `options`
+ * and `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_build_sat_layered_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                                        const msmcl_device_layers* layers, cl_mem table,
+                                                        const msmcl_sat_options* options,
+                                                        const msmcl_enqueue* enqueue);
 
 #ifdef __cplusplus
 } /* extern "C" */
