@@ -329,7 +329,22 @@ static void test_sat(msmcl_context* context, const float* depth) {
     CHECK_OK(msmcl_sat_scale(options.max_kernel_texels, &scale));
     CHECK(scale == 0xffffffffu / (27u * 27u), "scale %u", scale);
     CHECK(msmcl_sat_scale(1, &scale) == MSMCL_ERROR_INPUT, "N = 1 accepted");
+    CHECK(options.kernel == MSMCL_SAT_KERNEL_AUTOMATIC, "sat kernel default");
     CHECK_OK(msmcl_build_sat(context, depth, WIDTH, HEIGHT, SAMPLES, &options, host, 4 * texels));
+    /* Every distribution gives the same bits; an unknown one is refused. */
+    for (int kernel = MSMCL_SAT_KERNEL_TILED_GPU; kernel <= MSMCL_SAT_KERNEL_ROW_PER_THREAD; ++kernel) {
+        msmcl_sat_options chosen = options;
+        chosen.kernel = (msmcl_sat_kernel)kernel;
+        CHECK_OK(msmcl_build_sat(context, depth, WIDTH, HEIGHT, SAMPLES, &chosen, device, 4 * texels));
+        CHECK(memcmp(host, device, sizeof(unsigned int) * 4 * texels) == 0, "SAT kernel %d differs", kernel);
+    }
+    {
+        msmcl_sat_options unknown = options;
+        unknown.kernel = (msmcl_sat_kernel)9;
+        CHECK(msmcl_build_sat(context, depth, WIDTH, HEIGHT, SAMPLES, &unknown, device, 4 * texels) ==
+                  MSMCL_ERROR_INVALID_ARGUMENT,
+              "unknown SAT kernel accepted");
+    }
 
     depth_buffer = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(float) * texels * SAMPLES,
                                   (void*)depth, &error);

@@ -135,6 +135,14 @@ msmcl::SatOptions to_sat_options(const msmcl_sat_options* options, const char* c
     msmcl::SatOptions result;
     result.max_kernel_texels = c.max_kernel_texels;
     result.depth_range = to_depth_range(c.depth_range, call);
+    switch (c.kernel) {
+    case MSMCL_SAT_KERNEL_AUTOMATIC: result.kernel = msmcl::SatKernel::automatic; break;
+    case MSMCL_SAT_KERNEL_TILED_GPU: result.kernel = msmcl::SatKernel::tiled_gpu; break;
+    case MSMCL_SAT_KERNEL_TILED_CPU: result.kernel = msmcl::SatKernel::tiled_cpu; break;
+    case MSMCL_SAT_KERNEL_ROW_PER_THREAD: result.kernel = msmcl::SatKernel::row_per_thread; break;
+    default:
+        throw invalid_argument{std::string(call) + ": unknown SAT kernel " + std::to_string(static_cast<int>(c.kernel))};
+    }
     return result;
 }
 
@@ -609,6 +617,7 @@ void msmcl_sat_options_init(msmcl_sat_options* options) {
     const msmcl::SatOptions defaults;
     options->max_kernel_texels = defaults.max_kernel_texels;
     options->depth_range = static_cast<msmcl_depth_range>(defaults.depth_range);
+    options->kernel = MSMCL_SAT_KERNEL_AUTOMATIC;
 }
 
 msmcl_status msmcl_sat_scale(uint32_t max_kernel_texels, uint32_t* scale) {

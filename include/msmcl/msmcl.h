@@ -8,7 +8,8 @@
  * valid until the next such call on the same thread.
  *
  * Versions: before 1.0 every 0.x minor version may break the ABI (SONAME libmsmcl.so.0.1).
- * The option structs grew in 0.1 (msmcl_shade_options: frame, screen_width); new fields
+ * The option structs grew in 0.1 (msmcl_shade_options: frame, screen_width;
+ * msmcl_sat_options: kernel); new fields
  * only ever go at the end, so callers that fill a struct with its *_init function and
  * then set fields stay source compatible, but must be rebuilt.
  *
@@ -293,9 +294,18 @@ MSMCL_C_API msmcl_status msmcl_shade_with_pixels_device(msmcl_context* context, 
 
 /* ---- Summed-area tables of moments (soft shadows; include/msmcl/sat.hpp) */
 
+/* Which kernels build a table (include/msmcl/sat.hpp, SatKernel); all give the same bits. */
+typedef enum msmcl_sat_kernel {
+    MSMCL_SAT_KERNEL_AUTOMATIC = 0,     /* tiled GPU scan on GPUs, the CPU band scan elsewhere */
+    MSMCL_SAT_KERNEL_TILED_GPU = 1,     /* 32x32 tiles in local memory */
+    MSMCL_SAT_KERNEL_TILED_CPU = 2,     /* bands of 16 rows in 16-lane vectors */
+    MSMCL_SAT_KERNEL_ROW_PER_THREAD = 3 /* the papers' baseline: one work-item per row, then per column */
+} msmcl_sat_kernel;
+
 typedef struct msmcl_sat_options {
     uint32_t max_kernel_texels;    /* N: texels of the largest rectangle ever queried; default 27 * 27 */
     msmcl_depth_range depth_range; /* default zero_one */
+    msmcl_sat_kernel kernel;       /* since 0.1; default MSMCL_SAT_KERNEL_AUTOMATIC */
 } msmcl_sat_options;
 
 MSMCL_C_API void msmcl_sat_options_init(msmcl_sat_options* options);
