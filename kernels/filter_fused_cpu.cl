@@ -82,36 +82,6 @@ static inline float cpu_expf(float x) {
 #define CPU_LAYER_ARGS
 #endif
 
-// Algorithm 2 exactly as msm_nlq_from_shifted_moments (msm_moments.clh) computes it, the
-// same operations in the same order, written with a single return: the header's early
-// return of the single-depth case merges two 16-byte structs, which the x86-64 calling
-// convention passes as pairs of float2; that vector-typed merge stays after inlining and
-// stops the vectorization across work-items. (Delete this copy once the header's function
-// has a single return.) Tested against the same double reference as every kernel.
-static inline msm_nlq cpu_nlq_from_shifted_moments(msm_moments m, float c) {
-    MSM_NO_CONTRACT
-    const msm_moments b = msm_bias_towards(m, MSM_ALPHA_FLOAT, msm_float_bias_target_shifted(c));
-    float q2 = b.b2 - b.b1 * b.b1;
-    float q1 = b.b1 * b.b2 - b.b3;
-    float q0 = -b.b1 * q1 - b.b2 * q2;
-    float discriminant = q1 * q1 - 4.0f * q2 * q0;
-    const int single_depth = !(q2 > 0.0f) || !(discriminant > 0.0f);
-    float root_d = sqrt(discriminant);
-    float t = -0.5f * (q1 + (q1 >= 0.0f ? root_d : -root_d));
-    float root_a = t / q2;
-    float root_b = q0 / t;
-    float y1 = msm_minf(root_a, root_b);
-    float y2 = msm_maxf(root_a, root_b);
-    float l21 = -q1 / q2;
-    const float y = clamp(b.b1 + c, -1.0f, 1.0f);
-    msm_nlq n;
-    n.v2 = single_depth ? 0.5f : clamp((b.b1 - y1) / (y2 - y1), 0.0f, 1.0f);
-    n.xi4 = single_depth ? 0.0f : clamp(b.b4 - b.b2 * b.b2 - l21 * l21 * q2, 0.0f, MSM_XI4_MAX);
-    n.y1 = single_depth ? y : clamp(y1 + c, -1.0f, 1.0f);
-    n.y2 = single_depth ? y : clamp(y2 + c, -1.0f, 1.0f);
-    return n;
-}
-
 #define CPU_GUARD 4
 #define CPU_IN_W (CPU_TILE_W + 2 * CPU_GUARD)
 // A row buffer plane: the input columns plus 8 floats that the last work-items' 9-tap
@@ -319,6 +289,76 @@ static inline void blur_column(__global uint* texture, float w0, float w1, float
     }
 }
 
+// Algorithm 2 exactly as msm_nlq_from_shifted_moments (msm_moments.clh) computes it (bias
+// held as offsets, q2, q1 and xi4 in float-float), the same operations in the same order,
+// written for the vectorization across work-items: a single return (the header's early
+// return merges two 16-byte structs, which the x86-64 calling convention passes as pairs
+// of float2, and that vector-typed merge stays after inlining), and CPU_END_BLOCK after
+// each of the computations that have the same shape (the four bias offsets, the three
+// float-float differences, the four clamped outputs), which the SLP vectorizer would pack
+// into vectors otherwise (it did: the four outputs became one <4 x float> merge and this
+// phase ran one work-item at a time). y2 is a default NaN on the single-depth path, never
+// CPU_END_BLOCK's pattern. Tested against the same double reference as every kernel.
+static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moments(msm_moments b, float c,
+                                                                                 __global uint* texture, size_t x,
+                                                                                 int zero) {
+    MSM_NO_CONTRACT
+    const msm_moments target = msm_float_bias_target_shifted(c);
+    msm_moments l;
+    l.b1 = MSM_ALPHA_FLOAT * (target.b1 - b.b1);
+    CPU_END_BLOCK(701, as_uint(l.b1));
+    l.b2 = MSM_ALPHA_FLOAT * (target.b2 - b.b2);
+    CPU_END_BLOCK(702, as_uint(l.b2));
+    l.b3 = MSM_ALPHA_FLOAT * (target.b3 - b.b3);
+    CPU_END_BLOCK(703, as_uint(l.b3));
+    l.b4 = MSM_ALPHA_FLOAT * (target.b4 - b.b4);
+    CPU_END_BLOCK(704, as_uint(l.b4));
+    float square = b.b1 * b.b1;
+    float q2_sum = b.b2 - square;
+    float q2_tail = msm_two_sum_error(b.b2, -square, q2_sum) - msm_two_prod_error(b.b1, b.b1, square) +
+                    (l.b2 - l.b1 * (2.0f * b.b1 + l.b1));
+    float q2 = q2_sum + q2_tail;
+    float q2_lo = msm_two_sum_error(q2_sum, q2_tail, q2);
+    CPU_END_BLOCK(705, as_uint(q2_lo));
+    float product = b.b1 * b.b2;
+    float q1_sum = product - b.b3;
+    float q1_tail = msm_two_sum_error(product, -b.b3, q1_sum) + msm_two_prod_error(b.b1, b.b2, product) +
+                    (b.b1 * l.b2 + l.b1 * (b.b2 + l.b2) - l.b3);
+    float q1 = q1_sum + q1_tail;
+    float q1_lo = msm_two_sum_error(q1_sum, q1_tail, q1);
+    CPU_END_BLOCK(706, as_uint(q1_lo));
+    float b1 = b.b1 + l.b1;
+    float b2 = b.b2 + l.b2;
+    float q0 = -b1 * q1 - b2 * q2;
+    float discriminant = q1 * q1 - 4.0f * q2 * q0;
+    const int single_depth = !(q2 > 0.0f) || !(discriminant > 0.0f);
+    float root_d = sqrt(discriminant);
+    float t = -0.5f * (q1 + (q1 >= 0.0f ? root_d : -root_d));
+    float root_a = t / q2;
+    float root_b = q0 / t;
+    float y1 = msm_minf(root_a, root_b);
+    float y2 = msm_maxf(root_a, root_b);
+    CPU_END_BLOCK(707, as_uint(y2));
+    float square2 = b.b2 * b.b2;
+    float spread = b.b4 - square2;
+    float spread_tail = msm_two_sum_error(b.b4, -square2, spread) - msm_two_prod_error(b.b2, b.b2, square2) +
+                        (l.b4 - l.b2 * (2.0f * b.b2 + l.b2));
+    float k = q1 / q2;
+    float residual = fma(-k, q2, q1) + (q1_lo - k * q2_lo);
+    float cross = k * q1;
+    float xi4 = (spread - cross) + (spread_tail - msm_two_prod_error(k, q1, cross) - k * (q1_lo + residual));
+    const float y = clamp(b1 + c, -1.0f, 1.0f);
+    msm_nlq n;
+    n.v2 = single_depth ? 0.5f : clamp((b1 - y1) / (y2 - y1), 0.0f, 1.0f);
+    CPU_END_BLOCK(708, as_uint(n.v2));
+    n.xi4 = single_depth ? 0.0f : clamp(xi4, 0.0f, MSM_XI4_MAX);
+    CPU_END_BLOCK(709, as_uint(n.xi4));
+    n.y1 = single_depth ? y : clamp(y1 + c, -1.0f, 1.0f);
+    CPU_END_BLOCK(710, as_uint(n.y1));
+    n.y2 = single_depth ? y : clamp(y2 + c, -1.0f, 1.0f);
+    return n;
+}
+
 // Quantization: one phase per channel and a barrier between phases. Within one phase
 // there is a single chain of work per work-item (the compiler drops the other channels of
 // each encoder call), so the SLP vectorizer finds nothing to fuse, and no code moves
@@ -397,7 +437,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
         CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
         const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
         CPU_END_BLOCK(401, as_uint(shift));
-        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift);
+        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift, texture, x, zero);
         filtered[x] = n.y1;
         (filtered + CPU_IN_W)[x] = n.y2;
         (filtered + 2 * CPU_IN_W)[x] = n.v2;
@@ -420,7 +460,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
         CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
         const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
         CPU_END_BLOCK(401, as_uint(shift));
-        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift);
+        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift, texture, x, zero);
         filtered[x] = n.y1;
         (filtered + CPU_IN_W)[x] = n.y2;
         (filtered + 2 * CPU_IN_W)[x] = n.v2;

@@ -95,7 +95,8 @@ __kernel void filter_horizontal(__global const float* moments, int width, int he
     store_moments(blurred, row + x, m);
 }
 
-// (c) Vertical 9-tap blur, clamp-to-edge, then bias/quantize into the texture format.
+// (c) Vertical 9-tap blur, clamp-to-edge, then bias/quantize into the texture format (nlq:
+// Algorithm 2 in the unshifted frame, c = 0, bias held apart as in the fused kernels).
 __kernel void filter_vertical_quantize(__global const float* moments, int width, int height, __global uint* texture,
                                        float w0, float w1, float w2, float w3, float w4) {
     const int x = (int)get_global_id(0);
@@ -115,9 +116,9 @@ __kernel void filter_vertical_quantize(__global const float* moments, int width,
     const msm_word2 code = msm_encode_msm64(m);
     vstore2((uint2)(code.w0, code.w1), texel, texture);
 #elif MSM_FORMAT == 2
-    const msm_word2 code = msm_encode_nlq64(msm_nlq_from_moments(msm_bias(m, MSM_ALPHA_FLOAT, MSM_BSTAR_FLOAT)));
+    const msm_word2 code = msm_encode_nlq64(msm_nlq_from_shifted_moments(m, 0.0f));
     vstore2((uint2)(code.w0, code.w1), texel, texture);
 #else
-    texture[texel] = msm_encode_nlq32(msm_nlq_from_moments(msm_bias(m, MSM_ALPHA_FLOAT, MSM_BSTAR_FLOAT)));
+    texture[texel] = msm_encode_nlq32(msm_nlq_from_shifted_moments(m, 0.0f));
 #endif
 }

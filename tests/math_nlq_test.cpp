@@ -314,19 +314,67 @@ TEST_F(MathNlq, QuantizedBoundsStayBelowTrueShare) {
     }
 }
 
-// c = 0: the shifted path is the plain path, bit for bit.
+// c = 0: the shifted path is the plain path, bit for bit: the shifted bias target is
+// exactly (0, 3/8, 0, 3/8) and adding c = 0 back changes nothing. Both hold the bias as
+// offsets apart from the moments (msm_bias_offsets), so the plain path is fed those, not
+// msm_bias's moments rounded to float32.
 TEST_F(MathNlq, ShiftedMomentsWithZeroShiftAreThePlainPath) {
     SCOPED_TRACE("seed " + std::to_string(seed_));
+    const msm_moments target{0.0f, MSM_BSTAR_FLOAT, 0.0f, MSM_BSTAR_FLOAT};
     for (int trial = 0; trial < 1000; ++trial) {
         msmcl::Moments4 m = to_float(ref::moments_of(random_distribution(1 + trial % 5)));
         msm_moments raw{m.b1, m.b2, m.b3, m.b4};
         msm_nlq shifted = msm_nlq_from_shifted_moments(raw, 0.0f);
-        msm_nlq plain = msm_nlq_from_moments(msm_bias(raw, MSM_ALPHA_FLOAT, MSM_BSTAR_FLOAT));
+        msm_nlq plain = msm_nlq_from_split_moments(raw, msm_bias_offsets(raw, MSM_ALPHA_FLOAT, target), 0.0f);
         ASSERT_EQ(as_uint(shifted.y1), as_uint(plain.y1));
         ASSERT_EQ(as_uint(shifted.y2), as_uint(plain.y2));
         ASSERT_EQ(as_uint(shifted.v2), as_uint(plain.v2));
         ASSERT_EQ(as_uint(shifted.xi4), as_uint(plain.xi4));
     }
+}
+
+// The float32 arithmetic of Algorithm 2 alone: msm_nlq_from_shifted_moments against double
+// Algorithm 2 on the very same float32 moments of z - c, biased exactly, so that only the
+// rounding inside Algorithm 2 differs. Ordinary distributions and near-two-point ones
+// (xi4 down to 1e-6). The cancelling terms (sigma2, q1, xi4) are float-float: xi4 within a
+// few float32 roundings of itself (tolerance 2e-5 relative, measured max 1.4e-6; the
+// plain float32 formulas are off by more than 100% on these inputs), the depths within
+// float32 rounding amplified by 1/(y2 - y1) (tolerance 1e-5 / (y2 - y1), measured max
+// 7e-7 / (y2 - y1)), v2 = (b1 - y1)/(y2 - y1) once more (1e-4 / (y2 - y1), measured
+// 1.1e-5 / (y2 - y1)).
+TEST_F(MathNlq, Algorithm2ArithmeticMatchesDoubleOnTheSameMoments) {
+    SCOPED_TRACE("seed " + std::to_string(seed_));
+    const double alpha = MSM_ALPHA_FLOAT;
+    int compared = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        ref::Distribution d;
+        if (trial % 2) {
+            d = random_distribution(3 + trial % 3);
+        } else {
+            const double a = uniform(-1.0, 1.0), b = uniform(-1.0, 1.0), e = std::pow(10.0, uniform(-4.0, -2.0));
+            d.depth = {a, b, a + e};
+            d.weight = {uniform(0.1, 1.0), uniform(0.1, 1.0), uniform(0.01, 0.1)};
+        }
+        const float c = static_cast<float>(uniform(-1.0, 1.0));
+        const msmcl::Moments4 m = to_float(ref::shift(ref::moments_of(d), c));
+        // The exact bias of these float32 moments in the shifted frame.
+        const ref::Moments target = ref::shift({0.0, ref::bstar_float, 0.0, ref::bstar_float}, c);
+        const ref::Moments biased{(1 - alpha) * m.b1 + alpha * target.b1, (1 - alpha) * m.b2 + alpha * target.b2,
+                                  (1 - alpha) * m.b3 + alpha * target.b3, (1 - alpha) * m.b4 + alpha * target.b4};
+        const ref::Nlq expected = ref::nlq_from_moments(biased);
+        const double gap = expected.y2 - expected.y1;
+        // Away from the clamps and from one-depth texels.
+        if (!(expected.xi4 > 1e-6 && expected.xi4 < 0.25) || gap < 1e-3 || expected.v2 < 1e-3 ||
+            expected.v2 > 1.0 - 1e-3 || std::fabs(expected.y1 + c) > 1.0 || std::fabs(expected.y2 + c) > 1.0)
+            continue;
+        const msm_nlq actual = msm_nlq_from_shifted_moments(msm_moments{m.b1, m.b2, m.b3, m.b4}, c);
+        ASSERT_NEAR(actual.xi4, expected.xi4, 2e-5 * expected.xi4) << "trial " << trial;
+        ASSERT_NEAR(actual.y1, expected.y1 + c, 1e-5 / gap) << "trial " << trial;
+        ASSERT_NEAR(actual.y2, expected.y2 + c, 1e-5 / gap) << "trial " << trial;
+        ASSERT_NEAR(actual.v2, expected.v2, 1e-4 / gap) << "trial " << trial;
+        ++compared;
+    }
+    EXPECT_GT(compared, 1000);
 }
 
 // c != 0 on ordinary distributions: the same representation as the double reference of
