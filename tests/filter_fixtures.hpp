@@ -151,29 +151,64 @@ inline std::array<double, 4> continuous_codes(const ref::Nlq& n, Format format) 
     return {511.5 * (n.y1 + 1.0), 511.5 * (n.y2 + 1.0), 127.0 * std::sqrt(n.v2), 63.0 * ref::psi4(n.xi4)};
 }
 
+// The float32 sums of the moments of z - c: (40 + S) roundings (the shift, the powers, the
+// S-sample mean, 2 x 9 taps), each <= 2^-24 of the running size, for S <= 8: 48 x 6e-8. The
+// tolerance of rebuilt moments uses it; the choice of well-conditioned codes keeps 2e-6 (a
+// tighter bound admits more codes to the one-step comparison).
+inline constexpr double kShiftedMomentTolerance = 3e-6;
+
 // Largest change of the unrounded codes when the moments the kernel works on (those of
 // z - c) move by their float32 error bound. A channel whose sensitivity stays below 0.4
 // codes is well conditioned: the device's code lies within one of the reference's there.
-// Error bound of moment j: 2e-6 (see kMomentTolerance) relative to the size sum w|z-c|^j
+// Error bound of moment j: `relative` to the size sum w|z-c|^j
 // (S_j: the even moment, or by Cauchy-Schwarz sqrt(S_{j-1} S_{j+1}) for odd j), plus
 // j S_{j-1} 1e-7 for the rounding of z - c itself.
-inline std::array<double, 4> code_sensitivity(const ref::Moments& exact, double c, Format format) {
-    const ref::Moments biased = ref::shift(ref::bias(exact, 3e-7, 0.375), c);
+inline std::array<double, 4> float32_moment_bound(const ref::Moments& exact, double c, double relative) {
     const ref::Moments shifted = ref::shift(exact, c);
     const double S[5] = {1.0, std::sqrt(std::max(0.0, shifted.b2)), std::max(0.0, shifted.b2),
                          std::sqrt(std::max(0.0, shifted.b2 * shifted.b4)), std::max(0.0, shifted.b4)};
     std::array<double, 4> bound{};
-    for (int j = 1; j <= 4; ++j) bound[j - 1] = 2e-6 * S[j] + 1e-7 * j * S[j - 1];
+    for (int j = 1; j <= 4; ++j) bound[j - 1] = relative * S[j] + 1e-7 * j * S[j - 1];
+    return bound;
+}
+
+// The biased moments of (z - c) moved by +-bound (sign pattern `signs`, bit j-1 for b_j).
+inline ref::Moments moved_moments(const ref::Moments& biased, const std::array<double, 4>& bound, int signs) {
+    const auto sign = [signs](int j) { return signs >> (j - 1) & 1 ? 1.0 : -1.0; };
+    return {biased.b1 + sign(1) * bound[0], biased.b2 + sign(2) * bound[1], biased.b3 + sign(3) * bound[2],
+            biased.b4 + sign(4) * bound[3]};
+}
+
+inline std::array<double, 4> code_sensitivity(const ref::Moments& exact, double c, Format format) {
+    const ref::Moments biased = ref::shift(ref::bias(exact, 3e-7, 0.375), c);
+    const std::array<double, 4> bound = float32_moment_bound(exact, c, 2e-6);
     const std::array<double, 4> base = continuous_codes(algorithm2_shifted(biased, c), format);
     std::array<double, 4> sensitivity{};
     for (int signs = 0; signs < 16; ++signs) {
-        const auto sign = [signs](int j) { return signs >> (j - 1) & 1 ? 1.0 : -1.0; };
-        const ref::Moments moved{biased.b1 + sign(1) * bound[0], biased.b2 + sign(2) * bound[1],
-                                 biased.b3 + sign(3) * bound[2], biased.b4 + sign(4) * bound[3]};
-        const std::array<double, 4> codes = continuous_codes(algorithm2_shifted(moved, c), format);
+        const std::array<double, 4> codes =
+            continuous_codes(algorithm2_shifted(moved_moments(biased, bound, signs), c), format);
         for (int k = 0; k < 4; ++k) sensitivity[k] = std::max(sensitivity[k], std::fabs(codes[k] - base[k]));
     }
     return sensitivity;
+}
+
+// How far the float32 noise of the kernel's moments (the bound above, in the frame of c) can
+// move the moments rebuilt from Algorithm 2's output: double Algorithm 2 on the moved
+// moments, rebuilt with Eq. 4, against the same on the exact ones. Where nothing clamps this
+// is the noise itself, moved to the unshifted frame; where a root leaves [-1, 1] or a weight
+// [0, 1], Algorithm 2 no longer reproduces its input and the noise shows through the roots'
+// sensitivity (e.g. a root of weight 0.04 at the near plane, 0.12 from the other).
+inline std::array<double, 4> rebuilt_noise(const ref::Moments& exact, double c) {
+    const ref::Moments biased = ref::shift(ref::bias(exact, 3e-7, 0.375), c);
+    const std::array<double, 4> bound = float32_moment_bound(exact, c, kShiftedMomentTolerance);
+    const ref::Moments base = ref::moments_from_nlq(algorithm2_shifted(biased, c));
+    std::array<double, 4> noise{};
+    for (int signs = 0; signs < 16; ++signs) {
+        const ref::Moments moved = ref::moments_from_nlq(algorithm2_shifted(moved_moments(biased, bound, signs), c));
+        for (int j = 1; j <= 4; ++j)
+            noise[j - 1] = std::max(noise[j - 1], std::fabs(ref::moment(moved, j) - ref::moment(base, j)));
+    }
+    return noise;
 }
 inline constexpr double kWellConditioned = 0.4;
 
@@ -256,11 +291,12 @@ inline void expect_moments_close(const Texture& texture, const std::vector<ref::
 // Bound on |moments rebuilt from a decoded nlq texel - exact biased moments| for moment
 // j (1..4): half a quantization step of each depth (dy) and of v2 (dv2) moved through
 // b_j = (1 - v2) y1^j + v2 y2^j, the decoded xi4 minus the one a code lower (Psi4 rounds up),
-// and 1e-5 for float32 Algorithm 2 and the xi4 floor 1.2e-7.
-inline double rebuilt_tolerance(int j, const ref::Nlq& decoded, double dy, double dv2, double dxi4) {
+// the float32 noise of the kernel's moments as it reaches the rebuilt ones (`noise`,
+// rebuilt_noise), and 1e-5 for float32 Algorithm 2 and the xi4 floor 1.2e-7.
+inline double rebuilt_tolerance(int j, const ref::Nlq& decoded, double dy, double dv2, double dxi4, double noise) {
     const double y_max = std::max(std::fabs(decoded.y1), std::fabs(decoded.y2)) + dy;
     double tolerance = j * std::pow(y_max, j - 1) * dy +
-                       dv2 * std::fabs(std::pow(decoded.y2, j) - std::pow(decoded.y1, j)) + 1e-5;
+                       dv2 * std::fabs(std::pow(decoded.y2, j) - std::pow(decoded.y1, j)) + 1e-5 + noise;
     if (j == 4) tolerance += dxi4;
     return tolerance;
 }
@@ -293,16 +329,17 @@ inline void check_nlq_against_reference(const Texture& texture, const DepthImage
             }
             dxi4 = std::max(dxi4, 1.2e-7);
             const ref::Moments rebuilt = ref::moments_from_nlq(decoded);
+            const double c = kernel_shift(depth, DepthRange::zero_one, kernel, x, y);
+            const std::array<double, 4> noise = rebuilt_noise(exact, c);
             for (int j = 1; j <= 4; ++j) {
                 const double ratio = std::fabs(ref::moment(rebuilt, j) - ref::moment(biased, j)) /
-                                     rebuilt_tolerance(j, decoded, dy, dv2, dxi4);
+                                     rebuilt_tolerance(j, decoded, dy, dv2, dxi4, noise[j - 1]);
                 if (!(ratio <= worst_ratio)) {
                     worst_ratio = std::isnan(ratio) ? 1e30 : ratio;
                     worst_x = x, worst_y = y, worst_j = j;
                 }
             }
             // Codes against double Algorithm 2 (in the kernel's frame) where well conditioned.
-            const double c = kernel_shift(depth, DepthRange::zero_one, kernel, x, y);
             const ref::Nlq reference = algorithm2_shifted(ref::shift(biased, c), c);
             const std::array<double, 4> sensitivity = code_sensitivity(exact, c, texture.format);
             const std::array<int, 4> got = nlq_fields(texture, x, y);
