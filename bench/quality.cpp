@@ -5,7 +5,8 @@
 // Then it takes the nlq64 - moments128 difference apart with double-precision shading
 // (lookup, 16-bit format, float32 encoder, float32 shading), says where the receivers that
 // differ by more than 3% are, and measures light leaking on the railing scene's banner.
-// Writes Markdown tables (stdout), optional JSON, and PNGs.
+// Writes Markdown tables (stdout), optional JSON, and PNGs. --kernel picks the filter kernel of
+// every device map (default: the one the library picks for the device).
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -473,6 +474,14 @@ std::vector<double> device_shadow(msmcl::Context& context, const msmcl::Texture&
     return {shadow.begin(), shadow.end()};
 }
 
+/// The --kernel names, in msmcl::FilterKernel terms.
+msmcl::FilterKernel parse_kernel(const std::string& name) {
+    if (name == "fused_paper") return msmcl::FilterKernel::fused_paper;
+    if (name == "fused_cpu") return msmcl::FilterKernel::fused_cpu;
+    if (name == "three_pass") return msmcl::FilterKernel::three_pass;
+    return msmcl::FilterKernel::automatic;
+}
+
 Scene parse_scene(const std::string& spec) {
     std::vector<std::string> parts;
     std::size_t start = 0;
@@ -497,6 +506,7 @@ int main(int argc, char** argv) {
     std::string out_dir;
     std::string json_path;
     std::string device;
+    std::string kernel_name = "automatic";
     bool large = false;
     app.add_option("--scene", scene_specs,
                    "NAME:DEPTH.exr:RECEIVERS.exr[:MATERIALS.exr] (repeatable; materials: channel M of "
@@ -510,6 +520,11 @@ int main(int argc, char** argv) {
     app.add_option("--out", out_dir, "directory for PNG images (shadow and error per scene and method)");
     app.add_option("--json", json_path, "write the results as JSON");
     app.add_option("--device", device, "OpenCL device spec (gpu, cpu, index, P:D or name substring)");
+    app.add_option("--kernel", kernel_name,
+                   "filter kernel of every device map: automatic (the device's pick: fused_cpu on CPU devices, "
+                   "fused_paper elsewhere), fused_paper, fused_cpu or three_pass")
+        ->check(CLI::IsMember({"automatic", "fused_paper", "fused_cpu", "three_pass"}))
+        ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
 
     try {
@@ -544,10 +559,12 @@ int main(int argc, char** argv) {
         selection.device = device;
         selection.strict = !device.empty();
         msmcl::Context context(selection);
+        const msmcl::FilterKernel kernel = parse_kernel(kernel_name);
 
         nlohmann::json json_scenes = nlohmann::json::array();
         std::cout << "# msmcl quality table\n\n"
-                  << "device: " << context.device().name << "; blur sigma " << blur_sigma << " (9x9), depth bias "
+                  << "device: " << context.device().name << "; filter kernel " << kernel_name << "; blur sigma "
+                  << blur_sigma << " (9x9), depth bias "
                   << depth_bias << " (internal depth), bilinear lookup unless said; VSM minimum variance "
                   << vsm_min_variance << " ([0,1] depth).\n\n"
                   << "Errors are |shadow - reference| over all receivers of the view (sky pixels included, lit). "
@@ -603,6 +620,7 @@ int main(int argc, char** argv) {
                 msmcl::FilterOptions filter_options;
                 filter_options.format = format;
                 filter_options.sigma = static_cast<float>(blur_sigma);
+                filter_options.kernel = kernel;
                 msmcl::Texture map = msmcl::filter(context, depth, filter_options);
                 methods.push_back({msmcl::format_name(format),
                                    device_shadow(context, map, receivers, msmcl::Lookup::bilinear), {}, {}, {}, {}});
@@ -898,6 +916,7 @@ int main(int argc, char** argv) {
 
         if (!json_path.empty()) {
             nlohmann::json root{{"device", context.device().name},
+                                {"kernel", kernel_name},
                                 {"sigma", blur_sigma},
                                 {"depth_bias", depth_bias},
                                 {"vsm_min_variance", vsm_min_variance},

@@ -130,17 +130,37 @@ inline std::array<int, 2> cpu_tile() {
     return tile;
 }
 
-// Shift c of a kernel at texel (x, y): the internal depth (float32, as the kernel computes
-// it) of sample 0 of the centre texel of its block (fused_paper, 32x24) or tile (fused_cpu);
-// 0 for three-pass.
+// Shift c of a kernel at texel (x, y), in float32 as the kernel computes it from the
+// internal depths z = 2d - 1 (or d) of sample 0: fused_paper, (min z + max z) * 0.5f over the
+// 40x32 input texels of the texel's 32x24 block (guard band 4, coordinates clamped into the
+// image) whose z < 1 (the far plane takes no part; 1 if all are there); fused_cpu, z of the
+// centre texel of its tile; three_pass, 0.
 inline double kernel_shift(const DepthImage& depth, DepthRange range, FilterKernel kernel, int x, int y) {
     if (kernel == FilterKernel::three_pass) return 0.0;
-    std::array<int, 2> block{32, 24};
-    if (kernel == FilterKernel::fused_cpu) block = cpu_tile();
-    const int cx = std::min(x / block[0] * block[0] + block[0] / 2, depth.width - 1);
-    const int cy = std::min(y / block[1] * block[1] + block[1] / 2, depth.height - 1);
-    const float d = depth.at(cx, cy, 0);
-    return range == DepthRange::zero_one ? 2.0f * d - 1.0f : d;
+    // msm_internal_depth: NaN -> -1, clamped into [-1, 1].
+    const auto internal = [&](int tx, int ty) {
+        const float d = depth.at(tx, ty, 0);
+        const float z = range == DepthRange::zero_one ? 2.0f * d - 1.0f : d;
+        return std::isnan(z) ? -1.0f : std::clamp(z, -1.0f, 1.0f);
+    };
+    if (kernel == FilterKernel::fused_cpu) {
+        const std::array<int, 2> tile = cpu_tile();
+        const int cx = std::min(x / tile[0] * tile[0] + tile[0] / 2, depth.width - 1);
+        const int cy = std::min(y / tile[1] * tile[1] + tile[1] / 2, depth.height - 1);
+        return internal(cx, cy);
+    }
+    const int x0 = x / 32 * 32 - 4, y0 = y / 24 * 24 - 4;
+    float lowest = 1.0f, highest = -1.0f;
+    bool any = false;
+    for (int by = 0; by < 32; ++by)
+        for (int bx = 0; bx < 40; ++bx) {
+            const float z = internal(std::clamp(x0 + bx, 0, depth.width - 1), std::clamp(y0 + by, 0, depth.height - 1));
+            if (z == 1.0f) continue;
+            lowest = any ? std::min(lowest, z) : z;
+            highest = any ? std::max(highest, z) : z;
+            any = true;
+        }
+    return any ? (lowest + highest) * 0.5f : 1.0f;
 }
 
 // Unrounded codes of Algorithm 2's output: nlq64 channels, or the nlq32 fields yt1, yt2,

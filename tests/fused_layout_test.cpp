@@ -1,18 +1,22 @@
 // Offline simulation of every local-memory access of the fused filter kernel
 // (kernels/filter_fused_gpu.cl) for 32-wide sub-groups, with the very index and mapping
-// functions the kernel uses: 32 distinct banks per access instruction, an injective index
-// map, race-free phases, and a data-flow emulation that checks the phases compute the
-// 9x9 blur of the block's 32x24 interior.
+// functions the kernel uses: 32 distinct banks per access instruction (or one address for
+// all lanes, a broadcast), an injective index map, race-free phases, and data-flow
+// emulations that check the phases compute the 9x9 blur of the block's 32x24 interior and
+// the block shift of the nlq formats (midrange of the input block's depths short of the far
+// plane).
 #include "kernels/fused_layout.clh"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <functional>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <random>
 #include <set>
@@ -22,6 +26,9 @@
 namespace {
 
 constexpr uint kBanks = 32;
+// The kernel's second local array (the shift's step-2 results) modelled as the cells past
+// the moment planes: its base address does not change which entries share a bank.
+constexpr uint kShiftExtremesBase = FUSED_LOCAL_FLOATS;
 
 // One access instruction of one sub-group: the local index of each of its 32 lanes.
 struct Instruction {
@@ -41,8 +48,9 @@ struct Segment {
 // `access(local_id, step, index, write)` fills one access for step `step` of `steps`.
 using LaneAccess = std::function<void(uint local_id, uint step, uint& index, bool& write)>;
 
-void add_instructions(Segment& segment, const std::string& label, uint steps, const LaneAccess& access) {
-    for (uint subgroup = 0; subgroup < FUSED_SUBGROUPS; ++subgroup) {
+void add_instructions(Segment& segment, const std::string& label, uint steps, const LaneAccess& access,
+                      uint subgroups = FUSED_SUBGROUPS) {
+    for (uint subgroup = 0; subgroup < subgroups; ++subgroup) {
         for (uint step = 0; step < steps; ++step) {
             Instruction instruction;
             instruction.label = label + " step " + std::to_string(step);
@@ -59,12 +67,43 @@ void add_instructions(Segment& segment, const std::string& label, uint steps, co
     }
 }
 
-// The kernel's accesses, phase by phase, split at its barriers.
-std::vector<Segment> kernel_segments() {
+// The kernel's accesses, phase by phase, split at its barriers; `shifted`: the nlq formats,
+// whose block shift adds two segments before the resolve and 32 broadcast reads to it.
+std::vector<Segment> kernel_segments(bool shifted) {
     std::vector<Segment> segments;
+    Segment resolve{"resolve", {}};
+    if (shifted) {
+        // Shift step 1: each work-item writes the min and the max of its 5 texels.
+        Segment step1{"shift step 1", {}};
+        for (uint is_max = 0; is_max < 2; ++is_max)
+            add_instructions(step1, is_max ? "shift partial max" : "shift partial min", 1,
+                             [is_max](uint id, uint, uint& index, bool& write) {
+                                 index = fused_shift_partial_index(is_max, id);
+                                 write = true;
+                             });
+        segments.push_back(step1);
+        // Shift step 2: sub-group 0 reads 16 partials per lane, writes one result per lane.
+        Segment step2{"shift step 2", {}};
+        add_instructions(step2, "shift step 2 read", FUSED_SHIFT_STEP2_READS,
+                         [](uint id, uint k, uint& index, bool& write) {
+                             index = fused_shift_step2_index(fused_lane(id), k);
+                             write = false;
+                         }, 1);
+        add_instructions(step2, "shift step 2 write", 1,
+                         [](uint id, uint, uint& index, bool& write) {
+                             index = kShiftExtremesBase + fused_lane(id);
+                             write = true;
+                         }, 1);
+        segments.push_back(step2);
+        // Before the resolve: every work-item reads the 32 results, min k and max 16 + k in turn.
+        add_instructions(resolve, "shift result read", FUSED_SHIFT_FLOATS,
+                         [](uint, uint step, uint& index, bool& write) {
+                             index = kShiftExtremesBase + (step % 2u) * (FUSED_SHIFT_FLOATS / 2) + step / 2u;
+                             write = false;
+                         });
+    }
 
     // Phase 1: resolve, 5 rounds, each work-item writes 4 moments of one texel.
-    Segment resolve{"resolve", {}};
     for (uint j = 1; j <= 4; ++j) {
         add_instructions(resolve, "resolve write b" + std::to_string(j), FUSED_RESOLVE_ROUNDS,
                          [j](uint id, uint round, uint& index, bool& write) {
@@ -155,45 +194,61 @@ TEST(FusedLayout, IndexMapIsInjectiveAndFitsTheLocalArray) {
                 EXPECT_TRUE(seen.insert(index).second) << "j=" << j << " x=" << x << " y=" << y;
             }
     EXPECT_EQ(seen.size(), 4u * FUSED_IN_W * FUSED_IN_H);
-    // 20.6 KB of local memory, as the paper states.
+    // 20.6 KB of local memory, as the paper states; the nlq formats' shift adds 128 bytes.
     EXPECT_EQ(FUSED_LOCAL_FLOATS * sizeof(float), 20592u);
+    EXPECT_EQ((FUSED_LOCAL_FLOATS + FUSED_SHIFT_FLOATS) * sizeof(float), 20720u);
+    // The shift's partials (min and max of each work-item) fit the moment planes, apart.
+    std::set<uint> partials;
+    for (uint id = 0; id < FUSED_GROUP_SIZE; ++id)
+        for (uint is_max = 0; is_max < 2; ++is_max) {
+            const uint index = fused_shift_partial_index(is_max, id);
+            EXPECT_LT(index, uint(FUSED_LOCAL_FLOATS)) << "id=" << id << " is_max=" << is_max;
+            EXPECT_TRUE(partials.insert(index).second) << "id=" << id << " is_max=" << is_max;
+        }
 }
 
 TEST(FusedLayout, EveryAccessInstructionHits32DistinctBanks) {
-    std::size_t instructions = 0;
-    for (const Segment& segment : kernel_segments()) {
-        for (const Instruction& instruction : segment.instructions) {
-            std::set<uint> banks;
-            for (uint index : instruction.index) banks.insert(index % kBanks);
-            EXPECT_EQ(banks.size(), kBanks)
-                << segment.name << ": " << instruction.label << " of sub-group " << instruction.subgroup;
-            ++instructions;
+    for (bool shifted : {false, true}) {
+        std::size_t instructions = 0;
+        for (const Segment& segment : kernel_segments(shifted)) {
+            for (const Instruction& instruction : segment.instructions) {
+                std::set<uint> banks, addresses(instruction.index.begin(), instruction.index.end());
+                for (uint index : instruction.index) banks.insert(index % kBanks);
+                // A broadcast (every lane the same address, only reads) is conflict free too.
+                const bool broadcast = addresses.size() == 1 && !instruction.write;
+                EXPECT_TRUE(banks.size() == kBanks || broadcast)
+                    << segment.name << ": " << instruction.label << " of sub-group " << instruction.subgroup;
+                ++instructions;
+            }
         }
+        // 160 resolve + 320 horizontal + 256 vertical + 96 readout instructions; the shift:
+        // 16 step-1 writes, 16 + 1 step-2 accesses of sub-group 0, 256 broadcast reads.
+        EXPECT_EQ(instructions, shifted ? 1121u : 832u);
     }
-    // 160 resolve + 320 horizontal + 256 vertical + 96 readout instructions.
-    EXPECT_EQ(instructions, 832u);
 }
 
 TEST(FusedLayout, NoWorkItemTouchesACellAnotherOneWritesWithinASegment) {
-    for (const Segment& segment : kernel_segments()) {
-        // Work-items that write, and that access, each cell.
-        std::map<uint, std::set<uint>> writers, users;
-        for (const Instruction& instruction : segment.instructions) {
-            for (uint lane = 0; lane < FUSED_SUBGROUP; ++lane) {
-                const uint id = instruction.subgroup * FUSED_SUBGROUP + lane;
-                users[instruction.index[lane]].insert(id);
-                if (instruction.write) writers[instruction.index[lane]].insert(id);
+    for (bool shifted : {false, true}) {
+        for (const Segment& segment : kernel_segments(shifted)) {
+            // Work-items that write, and that access, each cell.
+            std::map<uint, std::set<uint>> writers, users;
+            for (const Instruction& instruction : segment.instructions) {
+                for (uint lane = 0; lane < FUSED_SUBGROUP; ++lane) {
+                    const uint id = instruction.subgroup * FUSED_SUBGROUP + lane;
+                    users[instruction.index[lane]].insert(id);
+                    if (instruction.write) writers[instruction.index[lane]].insert(id);
+                }
             }
-        }
-        for (const auto& [index, ids] : writers) {
-            EXPECT_EQ(ids.size(), 1u) << segment.name << ": cell " << index << " has several writers";
-            EXPECT_EQ(users[index], ids) << segment.name << ": cell " << index << " written and used by others";
+            for (const auto& [index, ids] : writers) {
+                EXPECT_EQ(ids.size(), 1u) << segment.name << ": cell " << index << " has several writers";
+                EXPECT_EQ(users[index], ids) << segment.name << ": cell " << index << " written and used by others";
+            }
         }
     }
 }
 
 TEST(FusedLayout, PhasesCoverEachRequiredCellExactlyOnce) {
-    const std::vector<Segment> segments = kernel_segments();
+    const std::vector<Segment> segments = kernel_segments(false);
     const Segment& resolve = segments[0];
     const Segment& horizontal = segments[1];
     const Segment& vertical_read = segments[2];
@@ -240,6 +295,117 @@ TEST(FusedLayout, PhasesCoverEachRequiredCellExactlyOnce) {
     EXPECT_TRUE(accessed(vertical_read, true).empty());
     EXPECT_TRUE(accessed(vertical_write, false).empty());
     EXPECT_TRUE(accessed(readout, true).empty());
+}
+
+TEST(FusedLayout, ShiftStepsCoverEachPartialExactlyOnce) {
+    const std::vector<Segment> plain = kernel_segments(false);
+    const std::vector<Segment> shifted = kernel_segments(true);
+    ASSERT_EQ(shifted.size(), plain.size() + 2);
+    const Segment& step1 = shifted[0];
+    const Segment& step2 = shifted[1];
+    std::multiset<uint> partials, results;
+    for (uint id = 0; id < FUSED_GROUP_SIZE; ++id)
+        for (uint is_max = 0; is_max < 2; ++is_max) partials.insert(fused_shift_partial_index(is_max, id));
+    for (uint k = 0; k < FUSED_SHIFT_FLOATS; ++k) results.insert(kShiftExtremesBase + k);
+    // Step 1 writes every partial once; step 2 reads each once and writes each result once.
+    EXPECT_EQ(accessed(step1, true), partials);
+    EXPECT_TRUE(accessed(step1, false).empty());
+    EXPECT_EQ(accessed(step2, false), partials);
+    EXPECT_EQ(accessed(step2, true), results);
+    // The resolve segment reads every result once per work-item, and otherwise does what the
+    // unshifted kernel does; the later segments are the same.
+    std::multiset<uint> result_reads;
+    for (uint id = 0; id < FUSED_GROUP_SIZE; ++id) result_reads.insert(results.begin(), results.end());
+    EXPECT_EQ(accessed(shifted[2], false), result_reads);
+    EXPECT_EQ(accessed(shifted[2], true), accessed(plain[0], true));
+    for (std::size_t k = 1; k < plain.size(); ++k) {
+        EXPECT_EQ(accessed(shifted[k + 2], false), accessed(plain[k], false)) << plain[k].name;
+        EXPECT_EQ(accessed(shifted[k + 2], true), accessed(plain[k], true)) << plain[k].name;
+    }
+}
+
+// Emulates the kernel's shift steps on the sample-0 depths of a 40x32 block (work-items in
+// the given order within each segment): the shift every work-item computes.
+std::vector<float> emulate_shift(const std::vector<float>& depths, bool reverse_order) {
+    std::vector<float> local(FUSED_LOCAL_FLOATS + FUSED_SHIFT_FLOATS, NAN);
+    auto read = [&](uint index) {
+        // A cell no earlier segment wrote would be a missing barrier or a wrong index.
+        EXPECT_FALSE(std::isnan(local[index])) << "cell " << index << " read before it is written";
+        return local[index];
+    };
+    auto for_each_work_item = [&](uint count, const std::function<void(uint)>& body) {
+        for (uint i = 0; i < count; ++i) body(reverse_order ? count - 1 - i : i);
+    };
+    // Step 1: min and max over the work-item's resolve texels short of the far plane.
+    for_each_work_item(FUSED_GROUP_SIZE, [&](uint id) {
+        float lowest = 1.0f, highest = -1.0f;
+        for (uint round = 0; round < FUSED_RESOLVE_ROUNDS; ++round) {
+            const float z = depths[fused_resolve_y(id) * FUSED_IN_W + fused_resolve_x(id, round)];
+            if (z < 1.0f) {
+                lowest = std::fmin(lowest, z);
+                highest = std::fmax(highest, z);
+            }
+        }
+        local[fused_shift_partial_index(0, id)] = lowest;
+        local[fused_shift_partial_index(1, id)] = highest;
+    });
+    // Step 2: sub-group 0.
+    for_each_work_item(FUSED_SUBGROUP, [&](uint id) {
+        const bool is_max = id >= 16u;
+        float extreme = read(fused_shift_step2_index(id, 0));
+        for (uint k = 1; k < FUSED_SHIFT_STEP2_READS; ++k) {
+            const float partial = read(fused_shift_step2_index(id, k));
+            extreme = is_max ? std::fmax(extreme, partial) : std::fmin(extreme, partial);
+        }
+        local[kShiftExtremesBase + id] = extreme;
+    });
+    // Every work-item: the shift from the 32 results.
+    std::vector<float> shifts(FUSED_GROUP_SIZE, NAN);
+    for_each_work_item(FUSED_GROUP_SIZE, [&](uint id) {
+        float block_min = read(kShiftExtremesBase), block_max = read(kShiftExtremesBase + FUSED_SHIFT_FLOATS / 2);
+        for (uint k = 1; k < FUSED_SHIFT_FLOATS / 2; ++k) {
+            block_min = std::fmin(block_min, read(kShiftExtremesBase + k));
+            block_max = std::fmax(block_max, read(kShiftExtremesBase + FUSED_SHIFT_FLOATS / 2 + k));
+        }
+        shifts[id] = block_min <= block_max ? (block_min + block_max) * 0.5f : 1.0f;
+    });
+    return shifts;
+}
+
+TEST(FusedLayout, EmulatedShiftIsTheMidrangeOfTheBlockDepths) {
+    const std::uint32_t seed = test_seed();
+    RecordProperty("seed", std::to_string(seed));
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> value(-0.5f, 0.5f);
+    std::uniform_int_distribution<uint> cell(0, FUSED_IN_W * FUSED_IN_H - 1);
+    for (int trial = 0; trial < 24; ++trial) {
+        std::vector<float> depths(FUSED_IN_W * FUSED_IN_H);
+        for (float& z : depths) z = value(random);
+        // The extremes in random cells, sometimes at the limits of the range or repeated; far
+        // plane (z = 1) cells, which take no part, in some trials; one trial all far plane,
+        // one all far but a single cell.
+        const uint low_cell = cell(random), high_cell = cell(random);
+        depths[low_cell] = trial % 3 == 0 ? -1.0f : -0.75f;
+        depths[high_cell] = trial % 4 == 0 ? 0.9999999f : 0.875f;
+        if (trial % 5 == 0) depths[cell(random)] = depths[low_cell];
+        if (trial % 2 == 1)
+            for (float& z : depths) z = cell(random) % 3 == 0 ? 1.0f : z;
+        if (trial == 22) std::fill(depths.begin(), depths.end(), 1.0f);
+        if (trial == 23) {
+            std::fill(depths.begin(), depths.end(), 1.0f);
+            depths[cell(random)] = 0.25f;
+        }
+        // Direct: midrange of the cells short of the far plane, 1 if none.
+        std::vector<float> rendered;
+        std::copy_if(depths.begin(), depths.end(), std::back_inserter(rendered), [](float z) { return z < 1.0f; });
+        float expected = 1.0f;
+        if (!rendered.empty())
+            expected = (*std::min_element(rendered.begin(), rendered.end()) +
+                        *std::max_element(rendered.begin(), rendered.end())) * 0.5f;
+        for (bool reverse : {false, true})
+            for (float shift : emulate_shift(depths, reverse))
+                ASSERT_EQ(shift, expected) << "trial " << trial << " reverse " << reverse << ", seed " << seed;
+    }
 }
 
 // Runs the kernel's four phases on a float array (work-items in the given order within
