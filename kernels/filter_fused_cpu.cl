@@ -24,7 +24,8 @@
 //   a barrier after each phase, and one to advance the row.
 // Same math headers, taps and float operation order as filter_fused_gpu.cl and
 // filter_three_pass.cl: moments128 and msm64 equal them bit for bit; the nlq formats shift
-// the moments by the tile's centre depth c (SPEC section 3).
+// the moments by the midrange c of the tile's input depths (SPEC section 3, see
+// shift_partials).
 // Compile-time: MSM_SAMPLES, MSM_FORMAT, MSM_DEPTH_ZERO_ONE, MSM_LAYERS as for
 // filter_fused_gpu.cl; CPU_TILE_W, CPU_TILE_H: tuning parameters (host/ops/filter.cpp).
 
@@ -103,23 +104,6 @@ static inline int tile_x0(int border, int ix0, int ix1) {
 }
 static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 
-// The shift c: internal depth of sample 0 of the tile's centre texel (clamped into the
-// image); 0 for the unshifted formats. Read anew in every phase that needs it: the row r
-// in the coordinates keeps the compiler from computing them once for all phases, and
-// PoCL would keep the result per work-item (it takes values computed through min() for
-// ones that differ between work-items); see CPU_X.
-static inline float tile_shift(__global const float* depth, int width, int height, int x0, int y0, int zero,
-                               int r) {
-#if CPU_SHIFTED
-    const int cx = min(x0 + CPU_TILE_W / 2 + r * zero, width - 1);
-    const int cy = min(y0 + CPU_TILE_H / 2 + r * zero, height - 1);
-    const size_t texel = (size_t)cy * width + cx;
-    return msm_internal_depth(depth[texel * MSM_SAMPLES], MSM_DEPTH_ZERO_ONE);
-#else
-    return 0.0f;
-#endif
-}
-
 // Rows alternate between two buffers of `size` floats.
 #define CPU_BUFFER(r, size) ((size_t)((r) % 2) * (size))
 
@@ -145,6 +129,65 @@ static inline float tile_shift(__global const float* depth, int width, int heigh
 // not a bare local id, which the compiler would compute once for all phases.
 #define CPU_END_BLOCK(tag, bits) \
     if (((bits) ^ (uint)zero) == 0xffff0000u + (uint)(tag)) texture[x] = (bits)
+
+// The shift c of the nlq formats (SPEC section 3), as in filter_fused_gpu.cl: the midrange
+// (min + max) / 2 of the internal depths z < 1 of sample 0 of the tile's input texels
+// (CPU_IN_W x (CPU_TILE_H + 8), clamped into the image as the resolve clamps them); 1 if
+// all are on the far plane, which takes no part (it would pull c halfway away from the
+// geometry). No texel of the tile lies more than half its depth range from c. Two phases
+// before the first resolve:
+// 1. work-item x: min and max over its input column, into partials[x], partials[CPU_IN_W + x]
+//    (the `filtered` planes, unused until the first output row);
+// 2. every work-item: min and max of all partials, c into its own cell of `shift_of`, which
+//    every later phase reads at its CPU_X (a per-work-item copy: PoCL keeps nothing live
+//    across barriers, and a uniform local value would be forwarded per work-item anyway).
+// min and max are exact in any order: c does not depend on the schedule.
+#if CPU_SHIFTED
+static inline void shift_partials(__global const float* depth, int width, int height, int border, int ix0, int ix1,
+                                  int zero, int r, __local float* partials) {
+    const size_t x = CPU_X(r);
+    const int x0 = tile_x0(border, ix0, ix1);
+    const int y0 = tile_y0();
+    __global const float* column;
+    if (border) {
+        column = depth + (size_t)clamp(x0 - CPU_GUARD + (int)x, 0, width - 1) * MSM_SAMPLES;
+    } else {
+        column = depth + (size_t)(x0 - CPU_GUARD) * MSM_SAMPLES;
+        column += x * MSM_SAMPLES;
+    }
+    float lowest = 1.0f, highest = -1.0f;
+#pragma unroll
+    for (int k = 0; k < CPU_TILE_H + 2 * CPU_GUARD; ++k) {
+        const size_t row = (size_t)clamp(y0 - CPU_GUARD + k, 0, height - 1) * width * MSM_SAMPLES;
+        const float z = msm_internal_depth(column[row], MSM_DEPTH_ZERO_ONE);
+        const int rendered = z < 1.0f;
+        lowest = rendered ? msm_minf(lowest, z) : lowest;
+        highest = rendered ? msm_maxf(highest, z) : highest;
+    }
+    partials[x] = lowest;
+    (partials + CPU_IN_W)[x] = highest;
+}
+
+static inline void shift_reduce(int zero, int r, __local const float* partials, __local float* shift_of) {
+    const size_t x = CPU_X(r);
+    float lowest = partials[0], highest = partials[CPU_IN_W];
+#pragma unroll
+    for (int k = 1; k < CPU_IN_W; ++k) {
+        lowest = msm_minf(lowest, partials[k]);
+        highest = msm_maxf(highest, partials[CPU_IN_W + k]);
+    }
+    shift_of[x] = lowest <= highest ? (lowest + highest) * 0.5f : 1.0f;
+}
+#endif
+
+// The shift c of this work-item's tile (0 for the unshifted formats), in a phase of row r.
+static inline float tile_shift(__local const float* shift_of, int zero, int r) {
+#if CPU_SHIFTED
+    return shift_of[CPU_X(r)];
+#else
+    return 0.0f;
+#endif
+}
 
 #if MSM_LAYERS
 // Sample s of a texel with its translucent layers: msm_translucent_sample and
@@ -196,12 +239,12 @@ cpu_translucent_sample(__global const float* samples, __global const float* laye
 // S samples of input texel (x0 - 4 + x, clamped row) into buffer r % 2 of `resolved`, in
 // the order of the other kernels' resolve_texel (sum from sample 0 up, times 1/S).
 static inline void resolve_row(__global const float* depth, int width, int height, __global uint* texture,
-                               int border, int ix0, int ix1, int zero, int r, __local float* resolved
-                               CPU_LAYER_PARAMS) {
+                               int border, int ix0, int ix1, int zero, int r, __local const float* shift_of,
+                               __local float* resolved CPU_LAYER_PARAMS) {
     const size_t x = CPU_X(r);
     const int x0 = tile_x0(border, ix0, ix1);
     const int y0 = tile_y0();
-    const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
+    const float shift = tile_shift(shift_of, zero, r);
     CPU_END_BLOCK(400, as_uint(shift)); // else the SLP vectorizer pairs it with sample 0
     const size_t row = (size_t)clamp(y0 - CPU_GUARD + r, 0, height - 1) * width;
     __global const float* samples;
@@ -394,8 +437,8 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 // phase's stores leave the row counter alone and reads it once, not once per work-item.
 static inline __attribute__((always_inline, flatten)) void quantize_phase(int phase, __global const float* depth, int width, int height,
                                   __global uint* texture, int border, int ix0, int ix1, int zero,
-                                  __global const int* row, __local float* restrict filtered,
-                                  __local uint* restrict words) {
+                                  __global const int* row, __local const float* restrict shift_of,
+                                  __local float* restrict filtered, __local uint* restrict words) {
     const int r = *row;
     const size_t x = CPU_X(r);
     const int x0 = tile_x0(border, ix0, ix1);
@@ -435,7 +478,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
         // Algorithm 2 (with the tile's shift), in place.
         msm_moments m;
         CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
-        const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
+        const float shift = tile_shift(shift_of, zero, r);
         CPU_END_BLOCK(401, as_uint(shift));
         const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift, texture, x, zero);
         filtered[x] = n.y1;
@@ -458,7 +501,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     if (phase == 0) {
         msm_moments m;
         CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
-        const float shift = tile_shift(depth, width, height, x0, y0, zero, r);
+        const float shift = tile_shift(shift_of, zero, r);
         CPU_END_BLOCK(401, as_uint(shift));
         const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift, texture, x, zero);
         filtered[x] = n.y1;
@@ -481,10 +524,24 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
 // One quantization phase and its barrier (the phase is a constant at each use).
 #define CPU_QUANTIZE(PHASE, BORDER)                                                                       \
     if ((PHASE) < CPU_QUANTIZE_PHASES) {                                                                  \
-        quantize_phase((PHASE), depth, width, height, texture, BORDER, ix0, ix1, zero, row, filtered,    \
-                       words);                                                                            \
+        quantize_phase((PHASE), depth, width, height, texture, BORDER, ix0, ix1, zero, row, shift_of,    \
+                       filtered, words);                                                                            \
         barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
     }
+
+// The shift's storage and its two phases (nlq formats); the other formats pass a pointer
+// nothing reads.
+#if CPU_SHIFTED
+#define CPU_SHIFT_STORAGE __local float shift_of[CPU_IN_W];
+#define CPU_SHIFT_PHASES(BORDER)                                                                          \
+    shift_partials(depth, width, height, BORDER, ix0, ix1, zero, *row, filtered);                        \
+    barrier(CLK_LOCAL_MEM_FENCE);                                                                         \
+    shift_reduce(zero, *row, filtered, shift_of);                                                         \
+    barrier(CLK_LOCAL_MEM_FENCE);
+#else
+#define CPU_SHIFT_STORAGE __local const float* shift_of = filtered;
+#define CPU_SHIFT_PHASES(BORDER)
+#endif
 
 // Both kernels. The current row lives in global memory (progress[group], scratch the host
 // provides) and every phase reads it anew: a loop counter would be kept per work-item by
@@ -498,14 +555,16 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     __local float ring[9 * 4 * CPU_IN_W];                                                                 \
     __local float filtered[4 * CPU_IN_W];                                                                 \
     __local uint words[4 * CPU_IN_W];                                                                     \
+    CPU_SHIFT_STORAGE                                                                                     \
     __global int* row = progress + get_group_id(1) * get_num_groups(0) + get_group_id(0);               \
     if (get_local_id(0) == 0) *row = 0;                                                                   \
     barrier(CLK_GLOBAL_MEM_FENCE);                                                                        \
-    resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row, resolved CPU_LAYER_ARGS);                  \
+    CPU_SHIFT_PHASES(BORDER)                                                                              \
+    resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row, shift_of, resolved CPU_LAYER_ARGS);                  \
     barrier(CLK_LOCAL_MEM_FENCE);                                                                         \
     for (int fill = 2 * CPU_GUARD; fill > 0; --fill) {                                                    \
         blur_row(texture, w0, w1, w2, w3, w4, zero, *row, resolved, ring);                               \
-        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved CPU_LAYER_ARGS);          \
+        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, shift_of, resolved CPU_LAYER_ARGS);          \
         barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
         if (get_local_id(0) == 0) *row += 1;                                                              \
         barrier(CLK_GLOBAL_MEM_FENCE);                                                                    \
@@ -513,7 +572,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     for (int rows_out = min(CPU_TILE_H, height - tile_y0()); rows_out > 0; --rows_out) {                  \
         blur_row(texture, w0, w1, w2, w3, w4, zero, *row, resolved, ring);                               \
         blur_column(texture, w0, w1, w2, w3, w4, zero, *row, ring, filtered);                            \
-        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, resolved CPU_LAYER_ARGS);          \
+        resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, shift_of, resolved CPU_LAYER_ARGS);          \
         barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
         CPU_QUANTIZE(0, BORDER)                                                                           \
         CPU_QUANTIZE(1, BORDER)                                                                           \

@@ -105,6 +105,7 @@ TEST_F(FilterCpu, NlqFormatsRebuildTheReferenceMoments) {
 TEST_F(FilterCpu, NlqCodesAgreeWithThreePass) {
     const DepthImage depth = make_depth(300, 200, 4, DepthRange::zero_one, test_seed() + 23);
     const std::vector<ref::Moments> expected = ref::filter_moments(to_reference(depth, DepthRange::zero_one), 2.4);
+    const KernelShift shift(depth, DepthRange::zero_one, FilterKernel::fused_cpu);
     for (Format format : {Format::nlq64, Format::nlq32}) {
         const Texture fused = cpu(depth, format);
         const Texture three = three_pass(depth, format);
@@ -112,7 +113,7 @@ TEST_F(FilterCpu, NlqCodesAgreeWithThreePass) {
         for (int y = 0; y < depth.height; ++y)
             for (int x = 0; x < depth.width; ++x) {
                 const ref::Moments& exact = expected[std::size_t(y) * depth.width + x];
-                const double c = kernel_shift(depth, DepthRange::zero_one, FilterKernel::fused_cpu, x, y);
+                const double c = shift.at(x, y);
                 const std::array<double, 4> fused_sensitivity = code_sensitivity(exact, c, format);
                 const std::array<double, 4> three_sensitivity = code_sensitivity(exact, 0.0, format);
                 const std::array<int, 4> a = nlq_fields(fused, x, y), b = nlq_fields(three, x, y);
@@ -174,7 +175,7 @@ TEST_F(FilterCpu, OtherTilingsGiveTheSameTexture) {
 }
 
 // `automatic` picks the CPU distribution on a CPU device (the nlq codes tell the kernels
-// apart: each shifts by its own blocks' centres) and the paper's kernel elsewhere.
+// apart: each shifts by the depth midrange of its own blocks) and the paper's kernel elsewhere.
 TEST_F(FilterCpu, AutomaticPicksTheDistributionOfTheDeviceType) {
     const DepthImage depth = make_depth(300, 200, 4, DepthRange::zero_one, test_seed() + 31);
     const Texture automatic = run(depth, Format::nlq64, 2.4f, DepthRange::zero_one, FilterKernel::automatic);

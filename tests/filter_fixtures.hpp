@@ -130,38 +130,52 @@ inline std::array<int, 2> cpu_tile() {
     return tile;
 }
 
-// Shift c of a kernel at texel (x, y), in float32 as the kernel computes it from the
-// internal depths z = 2d - 1 (or d) of sample 0: fused_paper, (min z + max z) * 0.5f over the
-// 40x32 input texels of the texel's 32x24 block (guard band 4, coordinates clamped into the
-// image) whose z < 1 (the far plane takes no part; 1 if all are there); fused_cpu, z of the
-// centre texel of its tile; three_pass, 0.
-inline double kernel_shift(const DepthImage& depth, DepthRange range, FilterKernel kernel, int x, int y) {
-    if (kernel == FilterKernel::three_pass) return 0.0;
-    // msm_internal_depth: NaN -> -1, clamped into [-1, 1].
-    const auto internal = [&](int tx, int ty) {
-        const float d = depth.at(tx, ty, 0);
-        const float z = range == DepthRange::zero_one ? 2.0f * d - 1.0f : d;
-        return std::isnan(z) ? -1.0f : std::clamp(z, -1.0f, 1.0f);
-    };
-    if (kernel == FilterKernel::fused_cpu) {
-        const std::array<int, 2> tile = cpu_tile();
-        const int cx = std::min(x / tile[0] * tile[0] + tile[0] / 2, depth.width - 1);
-        const int cy = std::min(y / tile[1] * tile[1] + tile[1] / 2, depth.height - 1);
-        return internal(cx, cy);
+// Shift c of a kernel per texel, in float32 as the kernel computes it from the internal
+// depths z = 2d - 1 (or d) of sample 0: (min z + max z) * 0.5f over the input texels of the
+// texel's output block (fused_paper: 32x24, fused_cpu: its tile) and their guard band of 4
+// (coordinates clamped into the image) whose z < 1 (the far plane takes no part; 1 if all
+// are there); three_pass, 0. Computed once per block.
+class KernelShift {
+public:
+    KernelShift(const DepthImage& depth, DepthRange range, FilterKernel kernel)
+        : kernel_(kernel), block_(kernel == FilterKernel::fused_cpu ? cpu_tile() : std::array<int, 2>{32, 24}) {
+        if (kernel == FilterKernel::three_pass) return;
+        columns_ = (depth.width + block_[0] - 1) / block_[0];
+        const int rows = (depth.height + block_[1] - 1) / block_[1];
+        // msm_internal_depth: NaN -> -1, clamped into [-1, 1].
+        const auto internal = [&](int tx, int ty) {
+            const float d = depth.at(tx, ty, 0);
+            const float z = range == DepthRange::zero_one ? 2.0f * d - 1.0f : d;
+            return std::isnan(z) ? -1.0f : std::clamp(z, -1.0f, 1.0f);
+        };
+        for (int row = 0; row < rows; ++row)
+            for (int column = 0; column < columns_; ++column) {
+                const int x0 = column * block_[0] - 4, y0 = row * block_[1] - 4;
+                float lowest = 1.0f, highest = -1.0f;
+                bool any = false;
+                for (int by = 0; by < block_[1] + 8; ++by)
+                    for (int bx = 0; bx < block_[0] + 8; ++bx) {
+                        const float z = internal(std::clamp(x0 + bx, 0, depth.width - 1),
+                                                 std::clamp(y0 + by, 0, depth.height - 1));
+                        if (z == 1.0f) continue;
+                        lowest = any ? std::min(lowest, z) : z;
+                        highest = any ? std::max(highest, z) : z;
+                        any = true;
+                    }
+                shifts_.push_back(any ? (lowest + highest) * 0.5f : 1.0f);
+            }
     }
-    const int x0 = x / 32 * 32 - 4, y0 = y / 24 * 24 - 4;
-    float lowest = 1.0f, highest = -1.0f;
-    bool any = false;
-    for (int by = 0; by < 32; ++by)
-        for (int bx = 0; bx < 40; ++bx) {
-            const float z = internal(std::clamp(x0 + bx, 0, depth.width - 1), std::clamp(y0 + by, 0, depth.height - 1));
-            if (z == 1.0f) continue;
-            lowest = any ? std::min(lowest, z) : z;
-            highest = any ? std::max(highest, z) : z;
-            any = true;
-        }
-    return any ? (lowest + highest) * 0.5f : 1.0f;
-}
+    double at(int x, int y) const {
+        if (kernel_ == FilterKernel::three_pass) return 0.0;
+        return shifts_[std::size_t(y / block_[1]) * columns_ + x / block_[0]];
+    }
+
+private:
+    FilterKernel kernel_;
+    std::array<int, 2> block_;
+    int columns_ = 0;
+    std::vector<float> shifts_;
+};
 
 // Unrounded codes of Algorithm 2's output: nlq64 channels, or the nlq32 fields yt1, yt2,
 // sqrt(v2), Psi4.
@@ -327,6 +341,7 @@ inline void check_nlq_against_reference(const Texture& texture, const DepthImage
     std::size_t compared = 0, off_by_one = 0;
     double worst_ratio = 0.0;
     int worst_x = 0, worst_y = 0, worst_j = 0;
+    const KernelShift shift(depth, DepthRange::zero_one, kernel);
     for (int y = 0; y < texture.height; ++y) {
         for (int x = 0; x < texture.width; ++x) {
             const ref::Moments& exact = expected[std::size_t(y) * texture.width + x];
@@ -349,7 +364,7 @@ inline void check_nlq_against_reference(const Texture& texture, const DepthImage
             }
             dxi4 = std::max(dxi4, 1.2e-7);
             const ref::Moments rebuilt = ref::moments_from_nlq(decoded);
-            const double c = kernel_shift(depth, DepthRange::zero_one, kernel, x, y);
+            const double c = shift.at(x, y);
             const std::array<double, 4> noise = rebuilt_noise(exact, c);
             for (int j = 1; j <= 4; ++j) {
                 const double ratio = std::fabs(ref::moment(rebuilt, j) - ref::moment(biased, j)) /

@@ -146,9 +146,10 @@ TEST_F(Filter, FusedEqualsThreePass) {
         const Texture three = run(depth, format, 2.4f, DepthRange::zero_one, FilterKernel::three_pass);
         EXPECT_EQ(fused.words, three.words) << msmcl::format_name(format);
     }
-    // nlq: the fused kernel shifts by the block's centre depth; codes equal or off by one
+    // nlq: the fused kernel shifts by the block's depth midrange; codes equal or off by one
     // where both kernels' frames are well conditioned.
     const std::vector<ref::Moments> expected = ref::filter_moments(to_reference(depth, DepthRange::zero_one), 2.4);
+    const KernelShift shift(depth, DepthRange::zero_one, FilterKernel::fused_paper);
     for (Format format : {Format::nlq64, Format::nlq32}) {
         const Texture fused = run(depth, format);
         const Texture three = run(depth, format, 2.4f, DepthRange::zero_one, FilterKernel::three_pass);
@@ -156,7 +157,7 @@ TEST_F(Filter, FusedEqualsThreePass) {
         for (int y = 0; y < depth.height; ++y)
             for (int x = 0; x < depth.width; ++x) {
                 const ref::Moments& exact = expected[std::size_t(y) * depth.width + x];
-                const double c = kernel_shift(depth, DepthRange::zero_one, FilterKernel::fused_paper, x, y);
+                const double c = shift.at(x, y);
                 const std::array<double, 4> fused_sensitivity = code_sensitivity(exact, c, format);
                 const std::array<double, 4> three_sensitivity = code_sensitivity(exact, 0.0, format);
                 const std::array<int, 4> a = nlq_fields(fused, x, y), b = nlq_fields(three, x, y);
