@@ -224,9 +224,12 @@ static inline void store_row(texels16 out, __global uint* table, int width, int 
 
 // Step 1: one work-item per band (global size = bands): the sums of each column over the
 // band's rows, 4 words per column, at band_totals[band * padded_width + x] (padded_width =
-// chunks * 16; rows and columns beyond the map count as zero).
-__kernel void sat_band_totals_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
-                                  __global uint* band_totals) {
+// chunks * 16; rows and columns beyond the map count as zero). With `texels` (a constant
+// at each use), also each texel's integer values into `texels` (the table's buffer), for
+// step 3 to scan in place.
+static inline __attribute__((always_inline)) void accumulate_band_totals(__global const SOURCE_TYPE* source, int width,
+                                                              int height, uint scale, __global uint* band_totals,
+                                                              __global uint* texels) {
     const int band = (int)get_global_id(0);
     const int y0 = band * BAND_H;
     const int chunks = (width + LANES - 1) / LANES;
@@ -237,10 +240,25 @@ __kernel void sat_band_totals_cpu(__global const SOURCE_TYPE* source, int width,
         for (int r = 0; r < BAND_H; ++r) {
             const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
             column = add_texels16(column, t);
+            if (texels && y0 + r < height) store_row(t, texels, width, x0, y0 + r);
         }
         store_interleaved(column, band_totals + 4 * ((size_t)band * (size_t)chunks * LANES + (size_t)x0));
     }
 }
+
+__kernel void sat_band_totals_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
+                                  __global uint* band_totals) {
+    accumulate_band_totals(source, width, height, scale, band_totals, 0);
+}
+
+#if MSM_SAT_SOURCE == 0
+// Step 1 that also writes the integer texels of the depth map into `texels`: step 3 then
+// reads them (16 bytes a texel) instead of resolving the depths a second time.
+__kernel void sat_band_totals_texels_cpu(__global const float* source, int width, int height, uint scale,
+                                         __global uint* band_totals, __global uint* texels) {
+    accumulate_band_totals(source, width, height, scale, band_totals, texels);
+}
+#endif
 
 // Step 3: one work-item per band, chunk by chunk from the left: column walks from the
 // band's column carries (the sums of every row above the band), lane scans plus each row's
