@@ -11,7 +11,9 @@
 //                 row is re-interleaved to R,G,B,A words and stored with 4 vstore16.
 // Three steps: band totals (the column sums of each band), the carries down the bands
 // (sat_column_carries in sat_carries.cl), the band scan. Every input is read twice and the
-// table written once; no carries across columns are needed, as a band spans the width.
+// table written once (for depth maps of many samples, step 1 writes the integer texels into
+// the table and the scan reads them back in place: sat_band_totals_texels_cpu); no carries
+// across columns are needed, as a band spans the width.
 // The vector arithmetic mirrors msm_sat_texel_of_depth (msm_sat.clh) operation by
 // operation, so both builds give identical bits (tests/sat_test.cpp checks it).
 // Compile-time: MSM_SAT_SOURCE (0 depth with MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; 1 texels),
