@@ -1,35 +1,75 @@
 // Summed-area table for CPU devices: the same table as sat_build.cl (same bits), distributed
 // for a CPU. PoCL vectorizes scalar code across work-items only inside one stretch between
 // barriers, and a scan needs values to cross lanes; here each work-item owns one band of
-// MSM_SAT_BAND_H full rows and walks it left to right, 16 columns at a time in 16-lane
-// vectors, so no barrier or local memory is needed and every row is read front to back:
-//   column walks: a running uint16 per channel and column chunk (one add per texel),
+// MSM_SAT_BAND_H full rows and walks it row by row, 16 columns at a time in 16-lane vectors,
+// so no barrier or local memory is needed and both the input and the table stream front to
+// back (one read and one write stream: walking a chunk down the band's rows instead makes
+// MSM_SAT_BAND_H streams whose addresses alias modulo 4 KiB):
+//   column sums:  the band's running sum of every column, 4 words a column, in the band's
+//                 slot of the carries buffer (2048 columns: 32 KiB, it stays in cache);
+//                 stored "planar" (the 16 words of R, then G, B, A of each 16 columns), so
+//                 no shuffle is needed to load or store it,
 //   row scans:    4 shuffle-and-add steps across the 16 lanes, plus the row's left carry
-//                 (the last lane of the chunk before, kept per row of the band),
+//                 (the last lane of the chunk before),
 //   layout:       16 texels are 16 * S contiguous depths (or 64 contiguous words): loaded
-//                 with vload16 and de-interleaved by log2(S) levels of shuffles; the output
-//                 row is re-interleaved to R,G,B,A words and stored with 4 vstore16.
+//                 as 16-lane vectors and de-interleaved by log2(S) levels of shuffles; the
+//                 output row is re-interleaved to R,G,B,A words and stored as 4 vectors.
+// With clang (PoCL), shuffles are __builtin_shufflevector and vector loads and stores plain
+// 4-byte-aligned vector accesses: PoCL's shuffle2, vload16 and vstore16 reach LLVM as
+// element moves and narrower accesses (2048^2, S = 1: band scan 7.7 -> 4.5 ms).
 // Three steps: band totals (the column sums of each band), the carries down the bands
-// (sat_column_carries in sat_carries.cl), the band scan. Every input is read twice and the
-// table written once (for depth maps of many samples, step 1 writes the integer texels into
-// the table and the scan reads them back in place: sat_band_totals_texels_cpu); no carries
+// (sat_column_carries in sat_carries.cl, elementwise, so the planar order passes through),
+// the band scan. Every input is read twice and the table written once (for depth maps of
+// several samples, step 1 writes the integer texels into the table, planar per chunk, and the
+// scan reads them back in place: sat_band_totals_texels_cpu, MSM_SAT_SOURCE 2); no carries
 // across columns are needed, as a band spans the width.
 // The vector arithmetic mirrors msm_sat_texel_of_depth (msm_sat.clh) operation by
 // operation, so both builds give identical bits (tests/sat_test.cpp checks it).
-// Compile-time: MSM_SAT_SOURCE (0 depth with MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; 1 texels),
-// MSM_SAT_BAND_H (rows per band).
+// Compile-time: MSM_SAT_SOURCE (0 depth with MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; 1 texels,
+// R,G,B,A per texel; 2 the texels of step 1: planar per full chunk, R,G,B,A in the last,
+// partial chunk of a row), MSM_SAT_BAND_H (rows per band).
 #include "msm_sat.clh"
 
 #define LANES 16
 #define BAND_H MSM_SAT_BAND_H
 
-// Lane masks of shuffle2 over the 32 lanes (a, b).
-#define MASK_EVEN (uint16)(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30)
-#define MASK_ODD (uint16)(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31)
-#define MASK_ZIP_LO (uint16)(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23)
-#define MASK_ZIP_HI (uint16)(8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31)
-#define MASK_PAIRS_LO (uint16)(0, 1, 16, 17, 2, 3, 18, 19, 4, 5, 20, 21, 6, 7, 22, 23)
-#define MASK_PAIRS_HI (uint16)(8, 9, 24, 25, 10, 11, 26, 27, 12, 13, 28, 29, 14, 15, 30, 31)
+// Two-source shuffles with constant lanes over the 32 lanes (a, b): clang's
+// __builtin_shufflevector is one LLVM shufflevector (PoCL's shuffle2 reaches LLVM as
+// element inserts and extracts that it only partly folds back); shuffle2 elsewhere.
+#if defined(__clang__)
+#define SHUFFLE2(a, b, lanes) __builtin_shufflevector((a), (b), lanes)
+#else
+#define SHUFFLE2(a, b, lanes) shuffle2((a), (b), (uint16)(lanes))
+#endif
+// Loads and stores of 16 lanes at 4-byte alignment: one vector move (PoCL's vload16 and
+// vstore16 become several narrower moves); vload16 and vstore16 elsewhere.
+#if defined(__clang__)
+typedef float16 float16_at4 __attribute__((aligned(4)));
+typedef uint16 uint16_at4 __attribute__((aligned(4)));
+#define LOAD16(TYPE, i, p) (((const __global TYPE##_at4*)(p))[i])
+#define STORE16(v, i, p) (((__global uint16_at4*)(p))[i] = (v))
+#else
+#define LOAD16(TYPE, i, p) vload16((i), (p))
+#define STORE16(v, i, p) vstore16((v), (i), (p))
+#endif
+// Lane lists.
+#define MASK_EVEN 0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30
+#define MASK_ODD 1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31
+// Lane i of (0, v) from lane i - k of v, zero below k: the steps of a lane prefix.
+#define MASK_SHIFT_1 0, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30
+#define MASK_SHIFT_2 0, 1, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29
+#define MASK_SHIFT_4 0, 1, 2, 3, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27
+#define MASK_SHIFT_8 0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23
+// vpunpckl/hdq, vpunpckl/hqdq: within each 128-bit block of (a, b).
+#define MASK_UNPACK_LO 0, 16, 1, 17, 4, 20, 5, 21, 8, 24, 9, 25, 12, 28, 13, 29
+#define MASK_UNPACK_HI 2, 18, 3, 19, 6, 22, 7, 23, 10, 26, 11, 27, 14, 30, 15, 31
+#define MASK_UNPACK_QUADS_LO 0, 1, 16, 17, 4, 5, 20, 21, 8, 9, 24, 25, 12, 13, 28, 29
+#define MASK_UNPACK_QUADS_HI 2, 3, 18, 19, 6, 7, 22, 23, 10, 11, 26, 27, 14, 15, 30, 31
+// vshufi32x4: 128-bit blocks (a0, a1, b0, b1), (a2, a3, b2, b3), (a0, a2, b0, b2), (a1, a3, b1, b3).
+#define MASK_BLOCKS_LO 0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23
+#define MASK_BLOCKS_HI 8, 9, 10, 11, 12, 13, 14, 15, 24, 25, 26, 27, 28, 29, 30, 31
+#define MASK_BLOCKS_EVEN 0, 1, 2, 3, 8, 9, 10, 11, 16, 17, 18, 19, 24, 25, 26, 27
+#define MASK_BLOCKS_ODD 4, 5, 6, 7, 12, 13, 14, 15, 20, 21, 22, 23, 28, 29, 30, 31
 
 // The four channels of 16 texels.
 typedef struct {
@@ -42,8 +82,8 @@ typedef struct {
     _Pragma("unroll") for (int level = 1; level < (n); level *= 2) {                      \
         TYPE w[(n)];                                                                      \
         _Pragma("unroll") for (int i = 0; i < (n) / 2; ++i) {                             \
-            w[i] = shuffle2(v[2 * i], v[2 * i + 1], MASK_EVEN);                           \
-            w[(n) / 2 + i] = shuffle2(v[2 * i], v[2 * i + 1], MASK_ODD);                  \
+            w[i] = SHUFFLE2(v[2 * i], v[2 * i + 1], MASK_EVEN);                           \
+            w[(n) / 2 + i] = SHUFFLE2(v[2 * i], v[2 * i + 1], MASK_ODD);                  \
         }                                                                                 \
         _Pragma("unroll") for (int i = 0; i < (n); ++i) v[i] = w[i];                      \
     }
@@ -83,10 +123,10 @@ static inline texels16 add_texels16(texels16 a, texels16 b) {
 // Four channels from 64 consecutive words (16 texels of R, G, B, A).
 static inline texels16 deinterleave_words(__global const uint* words) {
     uint16 v[4];
-    v[0] = vload16(0, words);
-    v[1] = vload16(1, words);
-    v[2] = vload16(2, words);
-    v[3] = vload16(3, words);
+    v[0] = LOAD16(uint16, 0, words);
+    v[1] = LOAD16(uint16, 1, words);
+    v[2] = LOAD16(uint16, 2, words);
+    v[3] = LOAD16(uint16, 3, words);
     DEINTERLEAVE(uint16, v, 4)
     texels16 t;
     t.c0 = v[0];
@@ -96,27 +136,57 @@ static inline texels16 deinterleave_words(__global const uint* words) {
     return t;
 }
 
-// The 64 words of 16 texels, R, G, B, A per texel.
+// The 64 words of 16 texels, R, G, B, A per texel: a 4x16 transpose in shuffles that each
+// map to one AVX-512 instruction (word and quad-word unpacks within 128-bit blocks, then a
+// 4x4 transpose of the blocks); a generic zip lowers to element moves through the stack.
 static inline void store_interleaved(texels16 t, __global uint* words) {
-    const uint16 rg_lo = shuffle2(t.c0, t.c1, MASK_ZIP_LO);
-    const uint16 rg_hi = shuffle2(t.c0, t.c1, MASK_ZIP_HI);
-    const uint16 ba_lo = shuffle2(t.c2, t.c3, MASK_ZIP_LO);
-    const uint16 ba_hi = shuffle2(t.c2, t.c3, MASK_ZIP_HI);
-    vstore16(shuffle2(rg_lo, ba_lo, MASK_PAIRS_LO), 0, words);
-    vstore16(shuffle2(rg_lo, ba_lo, MASK_PAIRS_HI), 1, words);
-    vstore16(shuffle2(rg_hi, ba_hi, MASK_PAIRS_LO), 2, words);
-    vstore16(shuffle2(rg_hi, ba_hi, MASK_PAIRS_HI), 3, words);
+    // Per 128-bit block i: (c0, c1) of texels 4i, 4i+1 and of texels 4i+2, 4i+3.
+    const uint16 rg01 = SHUFFLE2(t.c0, t.c1, MASK_UNPACK_LO);
+    const uint16 rg23 = SHUFFLE2(t.c0, t.c1, MASK_UNPACK_HI);
+    const uint16 ba01 = SHUFFLE2(t.c2, t.c3, MASK_UNPACK_LO);
+    const uint16 ba23 = SHUFFLE2(t.c2, t.c3, MASK_UNPACK_HI);
+    // Block i of texel_k: texel 4i + k, R, G, B, A.
+    const uint16 texel0 = SHUFFLE2(rg01, ba01, MASK_UNPACK_QUADS_LO);
+    const uint16 texel1 = SHUFFLE2(rg01, ba01, MASK_UNPACK_QUADS_HI);
+    const uint16 texel2 = SHUFFLE2(rg23, ba23, MASK_UNPACK_QUADS_LO);
+    const uint16 texel3 = SHUFFLE2(rg23, ba23, MASK_UNPACK_QUADS_HI);
+    // Blocks (0, 1) and (2, 3) of two texel vectors, then every other block: texels in order.
+    const uint16 t01_lo = SHUFFLE2(texel0, texel1, MASK_BLOCKS_LO);
+    const uint16 t01_hi = SHUFFLE2(texel0, texel1, MASK_BLOCKS_HI);
+    const uint16 t23_lo = SHUFFLE2(texel2, texel3, MASK_BLOCKS_LO);
+    const uint16 t23_hi = SHUFFLE2(texel2, texel3, MASK_BLOCKS_HI);
+    STORE16(SHUFFLE2(t01_lo, t23_lo, MASK_BLOCKS_EVEN), 0, words);
+    STORE16(SHUFFLE2(t01_lo, t23_lo, MASK_BLOCKS_ODD), 1, words);
+    STORE16(SHUFFLE2(t01_hi, t23_hi, MASK_BLOCKS_EVEN), 2, words);
+    STORE16(SHUFFLE2(t01_hi, t23_hi, MASK_BLOCKS_ODD), 3, words);
+}
+
+// 16 texels planar: the 16 words of channel 0, then channels 1, 2, 3 (band state, step-1 texels).
+static inline texels16 load_planar(__global const uint* words) {
+    texels16 t;
+    t.c0 = LOAD16(uint16, 0, words);
+    t.c1 = LOAD16(uint16, 1, words);
+    t.c2 = LOAD16(uint16, 2, words);
+    t.c3 = LOAD16(uint16, 3, words);
+    return t;
+}
+
+static inline void store_planar(texels16 t, __global uint* words) {
+    STORE16(t.c0, 0, words);
+    STORE16(t.c1, 1, words);
+    STORE16(t.c2, 2, words);
+    STORE16(t.c3, 3, words);
 }
 
 #if MSM_SAT_SOURCE == 0
 #define SOURCE_TYPE float
 
 // Integer texels of 16 whole texels starting at `first` (msm_sat_texel_of_depth per lane).
-static inline texels16 full_texels16(__global const float* depth, size_t first, uint scale) {
+static inline __attribute__((always_inline)) texels16 full_texels16(__global const float* depth, size_t first, uint scale) {
     float16 d[MSM_SAMPLES];
     __global const float* p = depth + first * MSM_SAMPLES;
 #pragma unroll
-    for (int k = 0; k < MSM_SAMPLES; ++k) d[k] = vload16(k, p);
+    for (int k = 0; k < MSM_SAMPLES; ++k) d[k] = LOAD16(float16, k, p);
     DEINTERLEAVE(float16, d, MSM_SAMPLES)
     // Moments summed in sample order, then scaled, as msm_moments_add / msm_moments_scale.
     float16 z = internal_depth16(d[0]);
@@ -154,11 +224,17 @@ static inline msm_sat_sum single_texel(__global const float* depth, size_t texel
 #else
 #define SOURCE_TYPE uint
 
-static inline texels16 full_texels16(__global const uint* texels, size_t first, uint scale) {
+// Ready texels: R,G,B,A per texel (MSM_SAT_SOURCE 1), or step 1's planar chunks (2).
+static inline __attribute__((always_inline)) texels16 full_texels16(__global const uint* texels, size_t first, uint scale) {
     (void)scale;
+#if MSM_SAT_SOURCE == 2
+    return load_planar(texels + 4 * first);
+#else
     return deinterleave_words(texels + 4 * first);
+#endif
 }
 
+// A texel of a partial chunk: R,G,B,A in both texel layouts.
 static inline msm_sat_sum single_texel(__global const uint* texels, size_t texel, uint scale) {
     (void)scale;
     msm_sat_sum t;
@@ -171,7 +247,7 @@ static inline msm_sat_sum single_texel(__global const uint* texels, size_t texel
 #endif
 
 // Row y of the chunk at x0: the 16 texels, zero beyond the map.
-static inline texels16 row_texels16(__global const SOURCE_TYPE* source, int width, int height, int x0, int y,
+static inline __attribute__((always_inline)) texels16 row_texels16(__global const SOURCE_TYPE* source, int width, int height, int x0, int y,
                                     uint scale) {
     if (y >= height) return zero_texels16();
     const size_t first = (size_t)y * (size_t)width + (size_t)x0;
@@ -197,10 +273,10 @@ static inline texels16 row_texels16(__global const SOURCE_TYPE* source, int widt
 // Inclusive prefix sums across the 16 lanes: 4 shift-and-add steps.
 static inline uint16 lane_prefix(uint16 v) {
     const uint16 zero = (uint16)(0u);
-    v += shuffle2(zero, v, (uint16)(0, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30));
-    v += shuffle2(zero, v, (uint16)(0, 1, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29));
-    v += shuffle2(zero, v, (uint16)(0, 1, 2, 3, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27));
-    v += shuffle2(zero, v, (uint16)(0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23));
+    v += SHUFFLE2(zero, v, MASK_SHIFT_1);
+    v += SHUFFLE2(zero, v, MASK_SHIFT_2);
+    v += SHUFFLE2(zero, v, MASK_SHIFT_4);
+    v += SHUFFLE2(zero, v, MASK_SHIFT_8);
     return v;
 }
 
@@ -224,27 +300,42 @@ static inline void store_row(texels16 out, __global uint* table, int width, int 
     }
 }
 
+// Row y's texels of step 1 at x0 for the band scan to read back: planar for a full chunk,
+// R,G,B,A per texel for the partial chunk at the right edge (as single_texel reads it).
+static inline void store_step1_texels(texels16 t, __global uint* texels, int width, int x0, int y) {
+    if (x0 + LANES <= width) {
+        store_planar(t, texels + 4 * ((size_t)y * (size_t)width + (size_t)x0));
+        return;
+    }
+    store_row(t, texels, width, x0, y);
+}
+
 // Step 1: one work-item per band (global size = bands): the sums of each column over the
-// band's rows, 4 words per column, at band_totals[band * padded_width + x] (padded_width =
-// chunks * 16; rows and columns beyond the map count as zero). With `texels` (a constant
-// at each use), also each texel's integer values into `texels` (the table's buffer), for
-// step 3 to scan in place.
+// band's rows, planar per chunk of 16 columns, at band_totals[4 * band * padded_width + 64 *
+// chunk] (padded_width = chunks * 16; columns beyond the map count as zero). With `texels`
+// (a constant at each use), also each texel's integer values into `texels` (the table's
+// buffer), for step 3 to scan in place.
 static inline __attribute__((always_inline)) void accumulate_band_totals(__global const SOURCE_TYPE* source, int width,
                                                               int height, uint scale, __global uint* band_totals,
                                                               __global uint* texels) {
     const int band = (int)get_global_id(0);
     const int y0 = band * BAND_H;
+    const int rows = min(BAND_H, height - y0);
     const int chunks = (width + LANES - 1) / LANES;
+    __global uint* sums = band_totals + 4 * (size_t)band * (size_t)chunks * LANES;
+    // The first row sets the sums, the others add to them: one read stream, row by row.
     for (int chunk = 0; chunk < chunks; ++chunk) {
-        const int x0 = chunk * LANES;
-        // Down the band's rows of this chunk: BAND_H read streams advancing together.
-        texels16 column = zero_texels16();
-        for (int r = 0; r < BAND_H; ++r) {
-            const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
-            column = add_texels16(column, t);
-            if (texels && y0 + r < height) store_row(t, texels, width, x0, y0 + r);
+        const texels16 t = row_texels16(source, width, height, chunk * LANES, y0, scale);
+        if (texels) store_step1_texels(t, texels, width, chunk * LANES, y0);
+        store_planar(t, sums + 4 * LANES * (size_t)chunk);
+    }
+    for (int r = 1; r < rows; ++r) {
+        for (int chunk = 0; chunk < chunks; ++chunk) {
+            const texels16 t = row_texels16(source, width, height, chunk * LANES, y0 + r, scale);
+            if (texels) store_step1_texels(t, texels, width, chunk * LANES, y0 + r);
+            __global uint* column = sums + 4 * LANES * (size_t)chunk;
+            store_planar(add_texels16(load_planar(column), t), column);
         }
-        store_interleaved(column, band_totals + 4 * ((size_t)band * (size_t)chunks * LANES + (size_t)x0));
     }
 }
 
@@ -262,34 +353,34 @@ __kernel void sat_band_totals_texels_cpu(__global const float* source, int width
 }
 #endif
 
-// Step 3: one work-item per band, chunk by chunk from the left: column walks from the
-// band's column carries (the sums of every row above the band), lane scans plus each row's
-// left carry, one write per texel.
+// Step 3: one work-item per band, row by row, each row chunk by chunk from the left: the
+// column sums (from the band's carries: the sums of every row above the band) plus the
+// row's texels, lane scans plus the row's left carry, one write per texel.
 __kernel void sat_band_scan_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
-                                __global const uint* column_carries, __global uint* table) {
+                                __global uint* column_carries, __global uint* table) {
     const int band = (int)get_global_id(0);
     const int y0 = band * BAND_H;
     const int rows = min(BAND_H, height - y0);
     const int chunks = (width + LANES - 1) / LANES;
-    // The table just left of the current chunk, per row of the band and channel.
-    uint left[4 * BAND_H];
-    for (int i = 0; i < 4 * BAND_H; ++i) left[i] = 0u;
-    for (int chunk = 0; chunk < chunks; ++chunk) {
-        const int x0 = chunk * LANES;
-        texels16 column =
-            deinterleave_words(column_carries + 4 * ((size_t)band * (size_t)chunks * LANES + (size_t)x0));
-        for (int r = 0; r < rows; ++r) {
+    __global uint* sums = column_carries + 4 * (size_t)band * (size_t)chunks * LANES;
+    for (int r = 0; r < rows; ++r) {
+        // The table just left of the current chunk, per channel.
+        uint left0 = 0u, left1 = 0u, left2 = 0u, left3 = 0u;
+        for (int chunk = 0; chunk < chunks; ++chunk) {
+            const int x0 = chunk * LANES;
             const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
-            column = add_texels16(column, t);
+            __global uint* column_at = sums + 4 * LANES * (size_t)chunk;
+            const texels16 column = add_texels16(load_planar(column_at), t);
+            store_planar(column, column_at);
             texels16 out;
-            out.c0 = lane_prefix(column.c0) + left[4 * r + 0];
-            out.c1 = lane_prefix(column.c1) + left[4 * r + 1];
-            out.c2 = lane_prefix(column.c2) + left[4 * r + 2];
-            out.c3 = lane_prefix(column.c3) + left[4 * r + 3];
-            left[4 * r + 0] = out.c0.sf;
-            left[4 * r + 1] = out.c1.sf;
-            left[4 * r + 2] = out.c2.sf;
-            left[4 * r + 3] = out.c3.sf;
+            out.c0 = lane_prefix(column.c0) + left0;
+            out.c1 = lane_prefix(column.c1) + left1;
+            out.c2 = lane_prefix(column.c2) + left2;
+            out.c3 = lane_prefix(column.c3) + left3;
+            left0 = out.c0.sf;
+            left1 = out.c1.sf;
+            left2 = out.c2.sf;
+            left3 = out.c3.sf;
             store_row(out, table, width, x0, y0 + r);
         }
     }

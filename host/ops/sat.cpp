@@ -25,13 +25,14 @@ constexpr int kMaxDimension = 65536;
 // memory, 32 work-items per tile, kernels/sat_carries.cl in between.
 constexpr int kGpuTile = 32;
 // The CPU distribution: kernels/sat_build_cpu.cl, one work-item per band of full rows in
-// 16-lane vectors (band totals, sat_column_carries, band scan).
+// 16-lane vectors (band totals, sat_column_carries, band scan). Bands of 32 rows: the
+// carries pass costs 0.3 ms at 2048^2 against 0.8 ms with 16 (PoCL, 2 cores).
 constexpr int kCpuLanes = 16;
-constexpr int kCpuBandHeight = 16;
+constexpr int kCpuBandHeight = 32;
 // From this many samples a texel the CPU build resolves the depths once, writing the integer
-// texels into the table for the band scan to read back (2048^2 medians, PoCL, 2 cores:
-// S = 1 13.1 against 10.6 ms, S = 4 15.2 against 17.2, S = 8 18.3 against 20.7).
-constexpr int kCpuTexelPassSamples = 4;
+// texels into the table for the band scan to read back (2048^2 medians, PoCL, 2 cores,
+// bin/probe of the kernels alone: S = 2 8.5 against 10.5 ms; S = 1 7.9 against 7.0).
+constexpr int kCpuTexelPassSamples = 2;
 
 std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }
 
@@ -95,9 +96,10 @@ struct SatSource {
 };
 
 // Compile-time variant: input kind, sample count, depth convention, tile or band size.
-std::vector<std::string> build_defines(const SatSource& source, SatKernel kernel) {
+// `step1_texels`: ready texels in the layout step 1 of the CPU build leaves (MSM_SAT_SOURCE 2).
+std::vector<std::string> build_defines(const SatSource& source, SatKernel kernel, bool step1_texels = false) {
     const bool zero_one = !source.is_depth || source.depth_range == DepthRange::zero_one;
-    return {"MSM_SAT_SOURCE=" + std::string(source.is_depth ? "0" : "1"),
+    return {"MSM_SAT_SOURCE=" + std::string(source.is_depth ? "0" : step1_texels ? "2" : "1"),
             "MSM_SAMPLES=" + std::to_string(source.is_depth ? source.samples : 1),
             "MSM_DEPTH_ZERO_ONE=" + std::string(zero_one ? "1" : "0"),
             kernel == SatKernel::tiled_cpu ? "MSM_SAT_BAND_H=" + std::to_string(kCpuBandHeight)
@@ -188,7 +190,7 @@ cl::Event enqueue_band_scan(detail::ContextImpl& impl, const cl::CommandQueue& q
     SatSource texels = what;
     texels.is_depth = false;
     cl::Kernel& scan =
-        impl.kernel("sat_build_cpu.cl", texel_pass ? build_defines(texels, SatKernel::tiled_cpu) : defines,
+        impl.kernel("sat_build_cpu.cl", texel_pass ? build_defines(texels, SatKernel::tiled_cpu, true) : defines,
                     "sat_band_scan_cpu");
     set_source_arguments(scan, texel_pass ? table : source, width, height, what.scale);
     detail::set_arg(scan, 4, column_carries);
