@@ -32,6 +32,9 @@
 
 #define LANES 16
 #define BAND_H MSM_SAT_BAND_H
+#if BAND_H % 2
+#error "MSM_SAT_BAND_H must be even: step 1 reads rows in pairs"
+#endif
 
 // Two-source shuffles with constant lanes over the 32 lanes (a, b): clang's
 // __builtin_shufflevector is one LLVM shufflevector (PoCL's shuffle2 reaches LLVM as
@@ -55,6 +58,8 @@ typedef uint16 uint16_at4 __attribute__((aligned(4)));
 // Lane lists.
 #define MASK_EVEN 0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30
 #define MASK_ODD 1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31
+// Lane 15 of a in every lane.
+#define MASK_LAST 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15
 // Lane i of (0, v) from lane i - k of v, zero below k: the steps of a lane prefix.
 #define MASK_SHIFT_1 0, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30
 #define MASK_SHIFT_2 0, 1, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29
@@ -323,18 +328,20 @@ static inline __attribute__((always_inline)) void accumulate_band_totals(__globa
     const int rows = min(BAND_H, height - y0);
     const int chunks = (width + LANES - 1) / LANES;
     __global uint* sums = band_totals + 4 * (size_t)band * (size_t)chunks * LANES;
-    // The first row sets the sums, the others add to them: one read stream, row by row.
-    for (int chunk = 0; chunk < chunks; ++chunk) {
-        const texels16 t = row_texels16(source, width, height, chunk * LANES, y0, scale);
-        if (texels) store_step1_texels(t, texels, width, chunk * LANES, y0);
-        store_planar(t, sums + 4 * LANES * (size_t)chunk);
-    }
-    for (int r = 1; r < rows; ++r) {
+    // Two rows a pass (one load and store of the sums per two rows of texels; a row below
+    // the map reads as zero), the first pass setting the sums.
+    for (int r = 0; r < rows; r += 2) {
         for (int chunk = 0; chunk < chunks; ++chunk) {
-            const texels16 t = row_texels16(source, width, height, chunk * LANES, y0 + r, scale);
-            if (texels) store_step1_texels(t, texels, width, chunk * LANES, y0 + r);
+            const int x0 = chunk * LANES;
+            const texels16 upper = row_texels16(source, width, height, x0, y0 + r, scale);
+            const texels16 lower = row_texels16(source, width, height, x0, y0 + r + 1, scale);
+            if (texels) {
+                store_step1_texels(upper, texels, width, x0, y0 + r);
+                if (r + 1 < rows) store_step1_texels(lower, texels, width, x0, y0 + r + 1);
+            }
             __global uint* column = sums + 4 * LANES * (size_t)chunk;
-            store_planar(add_texels16(load_planar(column), t), column);
+            const texels16 pair = add_texels16(upper, lower);
+            store_planar(r == 0 ? pair : add_texels16(load_planar(column), pair), column);
         }
     }
 }
@@ -353,9 +360,25 @@ __kernel void sat_band_totals_texels_cpu(__global const float* source, int width
 }
 #endif
 
-// Step 3: one work-item per band, row by row, each row chunk by chunk from the left: the
-// column sums (from the band's carries: the sums of every row above the band) plus the
-// row's texels, lane scans plus the row's left carry, one write per texel.
+// One row of the table from the column sums at its row, for 16 columns: lane scans plus the
+// row's left carry (updated to this chunk's last lane), stored at (x0, y).
+static inline __attribute__((always_inline)) void scan_chunk_row(texels16 column, texels16* left,
+                                                                 __global uint* table, int width, int x0, int y) {
+    texels16 out;
+    out.c0 = lane_prefix(column.c0) + left->c0;
+    out.c1 = lane_prefix(column.c1) + left->c1;
+    out.c2 = lane_prefix(column.c2) + left->c2;
+    out.c3 = lane_prefix(column.c3) + left->c3;
+    left->c0 = SHUFFLE2(out.c0, out.c0, MASK_LAST);
+    left->c1 = SHUFFLE2(out.c1, out.c1, MASK_LAST);
+    left->c2 = SHUFFLE2(out.c2, out.c2, MASK_LAST);
+    left->c3 = SHUFFLE2(out.c3, out.c3, MASK_LAST);
+    store_row(out, table, width, x0, y);
+}
+
+// Step 3: one work-item per band, two rows at a time, each pair chunk by chunk from the
+// left: the column sums (from the band's carries: the sums of every row above the band)
+// plus each row's texels, lane scans plus the row's left carry, one write per texel.
 __kernel void sat_band_scan_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                 __global uint* column_carries, __global uint* table) {
     const int band = (int)get_global_id(0);
@@ -363,25 +386,23 @@ __kernel void sat_band_scan_cpu(__global const SOURCE_TYPE* source, int width, i
     const int rows = min(BAND_H, height - y0);
     const int chunks = (width + LANES - 1) / LANES;
     __global uint* sums = column_carries + 4 * (size_t)band * (size_t)chunks * LANES;
-    for (int r = 0; r < rows; ++r) {
-        // The table just left of the current chunk, per channel.
-        uint left0 = 0u, left1 = 0u, left2 = 0u, left3 = 0u;
+    for (int r = 0; r < rows; r += 2) {
+        const bool lower_in_map = r + 1 < rows;
+        // The table just left of the current chunk in both rows, per channel, in every lane
+        // (a vector broadcast of lane 15: a scalar there costs element moves every chunk).
+        texels16 upper_left = zero_texels16(), lower_left = zero_texels16();
         for (int chunk = 0; chunk < chunks; ++chunk) {
             const int x0 = chunk * LANES;
-            const texels16 t = row_texels16(source, width, height, x0, y0 + r, scale);
             __global uint* column_at = sums + 4 * LANES * (size_t)chunk;
-            const texels16 column = add_texels16(load_planar(column_at), t);
-            store_planar(column, column_at);
-            texels16 out;
-            out.c0 = lane_prefix(column.c0) + left0;
-            out.c1 = lane_prefix(column.c1) + left1;
-            out.c2 = lane_prefix(column.c2) + left2;
-            out.c3 = lane_prefix(column.c3) + left3;
-            left0 = out.c0.sf;
-            left1 = out.c1.sf;
-            left2 = out.c2.sf;
-            left3 = out.c3.sf;
-            store_row(out, table, width, x0, y0 + r);
+            const texels16 upper = add_texels16(load_planar(column_at), row_texels16(source, width, height, x0, y0 + r, scale));
+            scan_chunk_row(upper, &upper_left, table, width, x0, y0 + r);
+            if (lower_in_map) {
+                const texels16 lower = add_texels16(upper, row_texels16(source, width, height, x0, y0 + r + 1, scale));
+                scan_chunk_row(lower, &lower_left, table, width, x0, y0 + r + 1);
+                store_planar(lower, column_at);
+            } else {
+                store_planar(upper, column_at);
+            }
         }
     }
 }
