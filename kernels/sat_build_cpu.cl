@@ -93,11 +93,12 @@ typedef struct {
         _Pragma("unroll") for (int i = 0; i < (n); ++i) v[i] = w[i];                      \
     }
 
-// msm_internal_depth for 16 depths.
+// msm_internal_depth for 16 depths: NaN and anything below -1 fail the ordered compare and
+// become -1, then anything not below 1 becomes 1 (on x86 one vmaxps and one vminps).
 static inline float16 internal_depth16(float16 d) {
-    float16 z = MSM_DEPTH_ZERO_ONE ? 2.0f * d - 1.0f : d;
-    const int16 nan = (as_int16(z) & 0x7fffffff) > 0x7f800000;
-    return select(clamp(z, -1.0f, 1.0f), (float16)(-1.0f), nan);
+    const float16 z = MSM_DEPTH_ZERO_ONE ? 2.0f * d - 1.0f : d;
+    const float16 above = select((float16)(-1.0f), z, z > -1.0f);
+    return select((float16)(1.0f), above, above < 1.0f);
 }
 
 // msm_sat_quantize for 16 values.

@@ -376,6 +376,59 @@ TEST_F(SatTest, DevicePathEqualsHostPath) {
     clReleaseMemObject(depth_buffer);
 }
 
+TEST_F(SatTest, DeviceDepthsOutsideTheRangeResolveAsClamped) {
+    // A device buffer is not validated: NaN must resolve as the near plane and anything
+    // outside the range as its end, in every build (odd sizes: partial chunks of 16 columns,
+    // a last band with an odd number of rows). Expected: the host path on the clamped map.
+    std::mt19937 rng(seed_ + 5);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (DepthRange range : {DepthRange::zero_one, DepthRange::minus_one_one}) {
+        const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
+        const float specials[] = {nan, -nan, inf, -inf, 1.5f, lowest - 0.25f, 1e30f, -1e30f, -0.0f, 1.0f, lowest,
+                                  std::nextafter(1.0f, 2.0f), std::nextafter(lowest, -2.0f)};
+        for (int samples : {1, 2, 8}) {
+            DepthImage raw = make_depth(37, 35, samples, range, rng);
+            DepthImage clamped = raw;
+            std::uniform_int_distribution<int> pick(0, 2 * static_cast<int>(std::size(specials)) - 1);
+            for (std::size_t i = 0; i < raw.depth.size(); ++i) {
+                const int k = pick(rng);
+                if (k >= static_cast<int>(std::size(specials))) continue; // half the samples stay
+                const float d = specials[k];
+                raw.depth[i] = d;
+                clamped.depth[i] = std::isnan(d) ? lowest : std::clamp(d, lowest, 1.0f);
+            }
+            msmcl::SatOptions options;
+            options.max_kernel_texels = 200;
+            options.depth_range = range;
+            const SatTable expected = msmcl::build_sat(context(), clamped, options);
+
+            cl_int status = CL_SUCCESS;
+            cl_context cl = context().cl_context_handle();
+            cl_mem depth_buffer = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, raw.depth.size() * 4,
+                                                 raw.depth.data(), &status);
+            ASSERT_EQ(status, CL_SUCCESS);
+            cl_mem table_buffer = clCreateBuffer(cl, CL_MEM_READ_WRITE, expected.words.size() * 4, nullptr, &status);
+            ASSERT_EQ(status, CL_SUCCESS);
+            for (SatKernel kernel : {SatKernel::tiled_gpu, SatKernel::tiled_cpu, SatKernel::row_per_thread}) {
+                options.kernel = kernel;
+                msmcl::Enqueue blocking;
+                blocking.blocking = true;
+                msmcl::build_sat(context(), msmcl::DeviceDepth{depth_buffer, raw.width, raw.height, samples},
+                                 table_buffer, options, blocking);
+                std::vector<std::uint32_t> words(expected.words.size());
+                ASSERT_EQ(clEnqueueReadBuffer(context().cl_queue_handle(), table_buffer, CL_TRUE, 0, words.size() * 4,
+                                              words.data(), 0, nullptr, nullptr),
+                          CL_SUCCESS);
+                EXPECT_EQ(first_difference(words, expected.words), -1)
+                    << "kernel " << static_cast<int>(kernel) << ", S=" << samples << ", range "
+                    << msmcl::depth_range_name(range);
+            }
+            clReleaseMemObject(table_buffer);
+            clReleaseMemObject(depth_buffer);
+        }
+    }
+}
+
 // Reference moments of a query: area-weighted mean of the texel integers, inverse affine.
 ref::Moments reference_query(const ref::SatTexels& texels, std::uint32_t scale, const msmcl::SatRectangle& r) {
     return ref::moments_of_channel_mean(ref::area_weighted_mean(texels, r.left, r.top, r.right, r.bottom), scale);
