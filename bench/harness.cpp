@@ -54,6 +54,29 @@ Timings time_runs(const std::function<void()>& run, int warmups, int reps) {
     return timings;
 }
 
+std::vector<Timings> time_interleaved(const std::vector<std::function<void()>>& runs, int warmups, int reps) {
+    for (const auto& run : runs)
+        for (int i = 0; i < warmups; ++i) run();
+    std::vector<Timings> timings(runs.size());
+    for (int i = 0; i < reps; ++i)
+        for (std::size_t r = 0; r < runs.size(); ++r) {
+            const double cpu_start = process_cpu_ms();
+            const auto start = std::chrono::steady_clock::now();
+            runs[r]();
+            const auto stop = std::chrono::steady_clock::now();
+            timings[r].cpu_ms.push_back(process_cpu_ms() - cpu_start);
+            timings[r].wall_ms.push_back(std::chrono::duration<double, std::milli>(stop - start).count());
+        }
+    return timings;
+}
+
+double median_ratio(const std::vector<double>& a, const std::vector<double>& b) {
+    std::vector<double> ratios;
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+        if (b[i] > 0) ratios.push_back(a[i] / b[i]);
+    return median(ratios);
+}
+
 double minimum(const std::vector<double>& values) {
     return values.empty() ? 0.0 : *std::min_element(values.begin(), values.end());
 }

@@ -9,8 +9,11 @@
 //   sat_row_per_thread  the papers' one-thread-per-row scan, then one thread per column
 //   soft_msm            soft_shade: moment soft shadows of 2^18 receivers on the map's surface
 //   pcss_15, pcss_27    brute-force PCSS of the same receivers with a 15x15 / 27x27 search
-// Every SAT row reports `bytes` = the minimum (depths once, table once), so GB/s compare;
-// `sat_copy_roof_fraction` is sat_copy's time over the row's. Table rows record whether
+// The copies and the builds are timed in turns (copy, copy, baseline, sat, ...; repeated),
+// so a slow phase of the machine hits them alike and no run finds only its own data in the
+// caches. Every SAT row reports `bytes` = the minimum (depths once, table once), so GB/s
+// compare; `sat_copy_roof_fraction` is sat_copy's time over the row's and
+// `speedup_over_row_per_thread` the median of the per-turn ratios. Table rows record whether
 // they equal the baseline's table bit for bit; soft rows the cost per receiver.
 #include "harness.hpp"
 
@@ -19,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <random>
@@ -156,65 +160,78 @@ std::vector<CaseResult> run_sat(BenchEnv& env, const Workload& work) {
     std::vector<CaseResult> rows;
 
     // The roof: the same bytes, no arithmetic; the faster of a copy per texel and one per 16
-    // texels (the latter needs whole blocks of 16).
-    CaseResult copy;
-    copy.name = "sat_copy";
-    copy.bytes = sat_bytes(work);
-    const auto time_copy = [&](const char* kernel_name, std::size_t items, cl_uint count, const std::size_t* group) {
-        cl_kernel kernel = bench_kernel(context, kernel_name, work.samples, 1);
+    // texels in vectors (the latter needs whole blocks of 16).
+    struct Copy {
+        const char* kernel_name;
+        const char* label;
+        std::size_t items;
+        std::size_t group; // 0: the device picks
+    };
+    std::vector<Copy> copies = {{"sat_copy", "per_texel", work.texels(),
+                                 std::min<std::size_t>(256, context.device().max_work_group_size)}};
+    if (work.texels() % 16 == 0) copies.push_back({"sat_copy_blocks", "blocks_of_16", work.texels() / 16, 0});
+    std::vector<std::function<void()>> runs;
+    for (const Copy& c : copies) {
+        cl_kernel kernel = bench_kernel(context, c.kernel_name, work.samples, 1);
+        const cl_uint count = static_cast<cl_uint>(c.items);
         set_arg(kernel, 0, sizeof(cl_mem), &work.depth_buffer);
         set_arg(kernel, 1, sizeof(cl_mem), &table.mem);
         set_arg(kernel, 2, sizeof count, &count);
-        const std::size_t global = group ? (items + *group - 1) / *group * *group : items;
-        return time_runs(
-            [&] {
-                check_cl(clEnqueueNDRangeKernel(context.cl_queue_handle(), kernel, 1, nullptr, &global, group, 0,
-                                                nullptr, nullptr),
-                         "clEnqueueNDRangeKernel(sat_copy)");
-                context.finish();
-            },
-            env.warmups, env.reps);
-    };
-    {
-        const std::size_t group = std::min<std::size_t>(256, context.device().max_work_group_size);
-        copy.take(time_copy("sat_copy", work.texels(), static_cast<cl_uint>(work.texels()), &group));
-        copy.extra["copy_kernel"] = "per_texel";
-        if (work.texels() % 16 == 0) {
-            const std::size_t blocks = work.texels() / 16;
-            CaseResult blocked;
-            blocked.take(time_copy("sat_copy_blocks", blocks, static_cast<cl_uint>(blocks), nullptr));
-            if (median(blocked.ms) < median(copy.ms)) {
-                copy.ms = blocked.ms;
-                copy.cpu_ms = blocked.cpu_ms;
-                copy.extra["copy_kernel"] = "blocks_of_16";
-            }
-        }
+        runs.push_back([&context, kernel, c] {
+            const std::size_t global = c.group ? (c.items + c.group - 1) / c.group * c.group : c.items;
+            check_cl(clEnqueueNDRangeKernel(context.cl_queue_handle(), kernel, 1, nullptr, &global,
+                                            c.group ? &c.group : nullptr, 0, nullptr, nullptr),
+                     "clEnqueueNDRangeKernel(sat_copy)");
+            context.finish();
+        });
     }
-    rows.push_back(copy);
 
     // The builds, the baseline first (its table is the reference of the others).
-    std::vector<std::uint32_t> baseline;
     const std::tuple<const char*, SatKernel> builds[] = {{"sat_row_per_thread", SatKernel::row_per_thread},
                                                          {"sat", SatKernel::automatic},
                                                          {"sat_tiled_gpu", SatKernel::tiled_gpu},
                                                          {"sat_tiled_cpu", SatKernel::tiled_cpu}};
-    for (const auto& [name, kernel] : builds) {
+    const DeviceDepth depth{work.depth_buffer, work.size, work.size, work.samples};
+    const auto options_of = [](SatKernel kernel) {
         SatOptions options;
         options.max_kernel_texels = kMaxKernel;
         options.kernel = kernel;
-        const DeviceDepth depth{work.depth_buffer, work.size, work.size, work.samples};
+        return options;
+    };
+    for (const auto& build : builds) {
+        const SatOptions options = options_of(std::get<1>(build));
+        runs.push_back([&context, &depth, &table, options] {
+            build_sat(context, depth, table.mem, options);
+            context.finish();
+        });
+    }
+
+    // Every run in turns, so that the ratios compare like with like on a noisy machine.
+    std::vector<Timings> timings = time_interleaved(runs, env.warmups, env.reps);
+
+    CaseResult copy;
+    copy.name = "sat_copy";
+    copy.bytes = sat_bytes(work);
+    std::size_t fastest = 0;
+    for (std::size_t c = 1; c < copies.size(); ++c)
+        if (median(timings[c].wall_ms) < median(timings[fastest].wall_ms)) fastest = c;
+    copy.take(timings[fastest]);
+    copy.extra["copy_kernel"] = copies[fastest].label;
+    rows.push_back(copy);
+
+    std::vector<std::uint32_t> baseline;
+    const std::vector<double>& baseline_ms = timings[copies.size()].wall_ms;
+    for (std::size_t b = 0; b < std::size(builds); ++b) {
         CaseResult row;
-        row.name = name;
+        row.name = std::get<0>(builds[b]);
         row.bytes = sat_bytes(work);
-        row.take(time_runs(
-            [&] {
-                build_sat(context, depth, table.mem, options);
-                context.finish();
-            },
-            env.warmups, env.reps));
+        row.take(timings[copies.size() + b]);
+        // The table each build leaves, against the baseline's.
+        build_sat(context, depth, table.mem, options_of(std::get<1>(builds[b])));
         const std::vector<std::uint32_t> words = read_texture(context, table.mem, table_bytes);
         if (baseline.empty()) baseline = words;
         row.extra["equal_to_row_per_thread"] = equal_share(words, baseline);
+        row.extra["speedup_over_row_per_thread"] = median_ratio(baseline_ms, row.ms);
         rows.push_back(row);
     }
     for (CaseResult& row : rows) {

@@ -152,13 +152,13 @@ cl::Event enqueue_rows_per_thread(detail::ContextImpl& impl, const cl::CommandQu
 // CPU: bands of full rows (kernels/sat_build_cpu.cl); the only carries are the column sums
 // above each band.
 cl::Event enqueue_band_scan(detail::ContextImpl& impl, const cl::CommandQueue& queue,
-                            const std::vector<cl::Event>& waits, const cl::Buffer& source, const SatSource& what,
+                            std::vector<cl::Event> waits, const cl::Buffer& source, const SatSource& what,
                             int width, int height, const cl::Buffer& table) {
     const std::vector<std::string> defines = build_defines(what, SatKernel::tiled_cpu);
     const int bands = (height + kCpuBandHeight - 1) / kCpuBandHeight;
     const int padded_width = (width + kCpuLanes - 1) / kCpuLanes * kCpuLanes;
-    cl::Buffer column_carries =
-        scratch_buffer(impl, 4 * texel_count(padded_width, bands), "clCreateBuffer(sat band totals)");
+    const char* const carries_scratch = "sat band totals";
+    cl::Buffer column_carries = impl.scratch(carries_scratch, 16 * texel_count(padded_width, bands), waits);
     // Groups of one work-item: the bands share nothing, and a fixed size means one
     // compilation for every map size.
     const cl::NDRange band_grid(static_cast<std::size_t>(bands));
@@ -197,27 +197,26 @@ cl::Event enqueue_band_scan(detail::ContextImpl& impl, const cl::CommandQueue& q
     detail::set_arg(scan, 5, table);
     cl::Event last;
     launch(queue, scan, band_grid, one_item, {carries_done}, last, "clEnqueueNDRangeKernel(sat_band_scan_cpu)");
-    // The scratch buffer is released here; OpenCL keeps it until the kernels are done.
+    impl.scratch_used(carries_scratch, last);
     return last;
 }
 
 // GPU: 32x32 tiles in local memory (kernels/sat_build.cl), carries between tiles in
 // columns, rows and corners.
 cl::Event enqueue_tiled_gpu(detail::ContextImpl& impl, const cl::CommandQueue& queue,
-                            const std::vector<cl::Event>& waits, const cl::Buffer& source, const SatSource& what,
+                            std::vector<cl::Event> waits, const cl::Buffer& source, const SatSource& what,
                             int width, int height, const cl::Buffer& table) {
     const std::vector<std::string> defines = build_defines(what, SatKernel::tiled_gpu);
     const int tiles_x = (width + kGpuTile - 1) / kGpuTile;
     const int tiles_y = (height + kGpuTile - 1) / kGpuTile;
     const int padded_width = tiles_x * kGpuTile;
     const int padded_height = tiles_y * kGpuTile;
-    cl::Buffer column_carries =
-        scratch_buffer(impl, 4 * texel_count(padded_width, tiles_y), "clCreateBuffer(sat column carries)");
-    cl::Buffer row_carries =
-        scratch_buffer(impl, 4 * texel_count(tiles_x, padded_height), "clCreateBuffer(sat row carries)");
-    cl::Buffer tile_totals = scratch_buffer(impl, 4 * texel_count(tiles_x, tiles_y), "clCreateBuffer(sat tile totals)");
-    cl::Buffer corner_carries =
-        scratch_buffer(impl, 4 * texel_count(tiles_x, tiles_y), "clCreateBuffer(sat corner carries)");
+    const char* const scratch_names[] = {"sat column carries", "sat row carries", "sat tile totals",
+                                         "sat corner carries"};
+    cl::Buffer column_carries = impl.scratch(scratch_names[0], 16 * texel_count(padded_width, tiles_y), waits);
+    cl::Buffer row_carries = impl.scratch(scratch_names[1], 16 * texel_count(tiles_x, padded_height), waits);
+    cl::Buffer tile_totals = impl.scratch(scratch_names[2], 16 * texel_count(tiles_x, tiles_y), waits);
+    cl::Buffer corner_carries = impl.scratch(scratch_names[3], 16 * texel_count(tiles_x, tiles_y), waits);
     const cl::NDRange tile_grid(static_cast<std::size_t>(padded_width), static_cast<std::size_t>(tiles_y));
     const cl::NDRange tile_group(static_cast<std::size_t>(kGpuTile), 1);
 
@@ -271,7 +270,7 @@ cl::Event enqueue_tiled_gpu(detail::ContextImpl& impl, const cl::CommandQueue& q
     cl::Event last;
     launch(queue, tile_scan, tile_grid, tile_group, {columns_done, rows_done, corners_done}, last,
            "clEnqueueNDRangeKernel(sat_tile_scan)");
-    // The scratch buffers are released here; OpenCL keeps them until the kernels are done.
+    for (const char* name : scratch_names) impl.scratch_used(name, last);
     return last;
 }
 

@@ -33,6 +33,23 @@ cl::CommandQueue ContextImpl::queue_for(const Enqueue& enqueue) const {
     return enqueue.queue ? cl::CommandQueue(enqueue.queue, true) : queue;
 }
 
+cl::Buffer ContextImpl::scratch(const std::string& purpose, std::size_t bytes, std::vector<cl::Event>& waits) {
+    Scratch& held = scratch_[purpose];
+    if (held.bytes < bytes) {
+        // The old buffer lives on until its last user is done (OpenCL reference counts).
+        cl_int status = CL_SUCCESS;
+        held.buffer = cl::Buffer(context, CL_MEM_READ_WRITE, bytes, nullptr, &status);
+        check(status, ("clCreateBuffer(" + purpose + ")").c_str());
+        held.bytes = bytes;
+        held.last_use = cl::Event();
+        return held.buffer;
+    }
+    if (held.last_use()) waits.push_back(held.last_use);
+    return held.buffer;
+}
+
+void ContextImpl::scratch_used(const std::string& purpose, const cl::Event& last) { scratch_[purpose].last_use = last; }
+
 std::vector<cl::Event> wait_list(const Enqueue& enqueue) {
     std::vector<cl::Event> events;
     for (cl_event e : enqueue.wait_for) events.emplace_back(e, true);

@@ -8,6 +8,7 @@
 #include <msmcl/context.hpp>
 #include <msmcl/enqueue.hpp>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,22 @@ struct ContextImpl {
 
     /// The queue a call should use: the Enqueue's own, else the Context's.
     cl::CommandQueue queue_for(const Enqueue& enqueue) const;
+
+    /// A device buffer of at least `bytes` for the scratch a call's kernels use while they
+    /// run, kept between calls per `purpose` and grown as needed (a fresh buffer per call
+    /// costs page faults and zeroing on CPU devices: 2 MiB for a 2048^2 table). `waits`
+    /// gains the last event of the previous user, so calls on different queues take turns;
+    /// the caller hands its own last event back with scratch_used.
+    cl::Buffer scratch(const std::string& purpose, std::size_t bytes, std::vector<cl::Event>& waits);
+    void scratch_used(const std::string& purpose, const cl::Event& last);
+
+  private:
+    struct Scratch {
+        cl::Buffer buffer;
+        std::size_t bytes = 0;
+        cl::Event last_use;
+    };
+    std::map<std::string, Scratch> scratch_;
 };
 
 /// Wait list of an Enqueue as the bindings want it (retains the events).
