@@ -91,8 +91,9 @@ std::vector<BenchCase> registered_cases();
 /// Times `run` (which must return only once its work is complete): `warmups` untimed runs
 /// (program builds, first-launch JIT, page faults), then `reps` timed ones.
 Timings time_runs(const std::function<void()>& run, int warmups, int reps);
-/// The same for several runs measured in turns (run 0, 1, ..., then again): a slow phase of
-/// a noisy machine then hits every run alike, so ratios between them stay fair.
+/// The same for several runs measured in turns (run 0, 1, ..., then again; each timed run
+/// right after an untimed one of its own, so that it starts warm as in time_runs): a slow
+/// phase of a noisy machine then hits every run alike, so ratios between them stay fair.
 std::vector<Timings> time_interleaved(const std::vector<std::function<void()>>& runs, int warmups, int reps);
 /// Median over repetitions of a[i] / b[i] (paired ratio of interleaved timings).
 double median_ratio(const std::vector<double>& a, const std::vector<double>& b);
