@@ -5,7 +5,7 @@
 //                       per texel and one per 16 texels in vectors (extra.copy_kernel)
 //   sat                 build_sat with the kernel the library picks for the device
 //   sat_tiled_gpu       the local-memory tiled scan (the GPU distribution)
-//   sat_tiled_cpu       bands of 16 full rows in 16-lane vectors (the CPU distribution)
+//   sat_tiled_cpu       bands of 32 full rows in 16-lane vectors (the CPU distribution)
 //   sat_row_per_thread  the papers' one-thread-per-row scan, then one thread per column
 //   soft_msm            soft_shade: moment soft shadows of 2^18 receivers on the map's surface
 //   pcss_15, pcss_27    brute-force PCSS of the same receivers with a 15x15 / 27x27 search

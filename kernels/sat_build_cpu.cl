@@ -3,8 +3,9 @@
 // barriers, and a scan needs values to cross lanes; here each work-item owns one band of
 // MSM_SAT_BAND_H full rows and walks it row by row, 16 columns at a time in 16-lane vectors,
 // so no barrier or local memory is needed and both the input and the table stream front to
-// back (one read and one write stream: walking a chunk down the band's rows instead makes
-// MSM_SAT_BAND_H streams whose addresses alias modulo 4 KiB):
+// back, two rows at a time (two read and two write streams: walking a chunk down the band's
+// rows instead makes MSM_SAT_BAND_H streams whose addresses alias modulo 4 KiB), with a
+// software prefetch 4 KiB ahead:
 //   column sums:  the band's running sum of every column, 4 words a column, in the band's
 //                 slot of the carries buffer (2048 columns: 32 KiB, it stays in cache);
 //                 stored "planar" (the 16 words of R, then G, B, A of each 16 columns), so
@@ -16,7 +17,8 @@
 //                 output row is re-interleaved to R,G,B,A words and stored as 4 vectors.
 // With clang (PoCL), shuffles are __builtin_shufflevector and vector loads and stores plain
 // 4-byte-aligned vector accesses: PoCL's shuffle2, vload16 and vstore16 reach LLVM as
-// element moves and narrower accesses (2048^2, S = 1: band scan 7.7 -> 4.5 ms).
+// element moves and narrower accesses (2048^2, S = 1: band scan 7.7 -> 4.5 ms; timings of
+// the kernels alone, PoCL profiling events, 2-core AVX-512 VM).
 // Three steps: band totals (the column sums of each band), the carries down the bands
 // (sat_column_carries in sat_carries.cl, elementwise, so the planar order passes through),
 // the band scan. Every input is read twice and the table written once (for depth maps of

@@ -30,8 +30,8 @@ constexpr int kGpuTile = 32;
 constexpr int kCpuLanes = 16;
 constexpr int kCpuBandHeight = 32;
 // From this many samples a texel the CPU build resolves the depths once, writing the integer
-// texels into the table for the band scan to read back (2048^2 medians, PoCL, 2 cores,
-// bin/probe of the kernels alone: S = 2 8.5 against 10.5 ms; S = 1 7.9 against 7.0).
+// texels into the table for the band scan to read back (2048^2, PoCL, 2 cores, the three
+// kernels timed by profiling events: S = 2 8.5 against 10.5 ms; S = 1 7.9 against 7.0).
 constexpr int kCpuTexelPassSamples = 2;
 
 std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }

@@ -298,7 +298,7 @@ MSMCL_C_API msmcl_status msmcl_shade_with_pixels_device(msmcl_context* context, 
 typedef enum msmcl_sat_kernel {
     MSMCL_SAT_KERNEL_AUTOMATIC = 0,     /* tiled GPU scan on GPUs, the CPU band scan elsewhere */
     MSMCL_SAT_KERNEL_TILED_GPU = 1,     /* 32x32 tiles in local memory */
-    MSMCL_SAT_KERNEL_TILED_CPU = 2,     /* bands of 16 rows in 16-lane vectors */
+    MSMCL_SAT_KERNEL_TILED_CPU = 2,     /* bands of 32 rows in 16-lane vectors */
     MSMCL_SAT_KERNEL_ROW_PER_THREAD = 3 /* the papers' baseline: one work-item per row, then per column */
 } msmcl_sat_kernel;
 

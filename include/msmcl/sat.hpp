@@ -44,7 +44,7 @@ enum class SatKernel {
     automatic,      ///< tiled_gpu on GPUs, tiled_cpu elsewhere
     tiled_gpu,      ///< 32x32 tiles in local memory; work-items walk tile columns, then tile rows
                     ///< (one add per texel and direction, conflict-free padded rows)
-    tiled_cpu,      ///< bands of 16 full rows, one work-item each, 16 columns at a time in 16-lane
+    tiled_cpu,      ///< bands of 32 full rows, one work-item each, 16 columns at a time in 16-lane
                     ///< vectors: column walks, then four shuffle-and-add steps across the lanes
                     ///< (what PoCL's CPU device runs well)
     row_per_thread, ///< the papers' baseline: one work-item per row, then one per column
