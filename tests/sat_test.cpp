@@ -429,6 +429,54 @@ TEST_F(SatTest, DeviceDepthsOutsideTheRangeResolveAsClamped) {
     }
 }
 
+TEST_F(SatTest, BuildsOnTwoQueuesShareTheScratchInTurns) {
+    // The Context keeps the builds' scratch buffers; builds enqueued on two queues without
+    // waiting for each other must still take turns with them (and a larger map grows them).
+    std::mt19937 rng(seed_ + 6);
+    cl_int status = CL_SUCCESS;
+    cl_context cl = context().cl_context_handle();
+    cl_command_queue other = clCreateCommandQueue(cl, context().cl_device_handle(), 0, &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    for (SatKernel kernel : {SatKernel::tiled_cpu, SatKernel::tiled_gpu}) {
+        const DepthImage maps[] = {make_depth(150, 70, 2, DepthRange::zero_one, rng),
+                                   make_depth(300, 140, 2, DepthRange::zero_one, rng),
+                                   make_depth(90, 40, 2, DepthRange::zero_one, rng)};
+        msmcl::SatOptions options;
+        options.max_kernel_texels = 500;
+        options.kernel = kernel;
+        std::vector<cl_mem> depths, tables;
+        std::vector<cl_event> done(std::size(maps), nullptr);
+        for (std::size_t i = 0; i < std::size(maps); ++i) {
+            const DepthImage& map = maps[i];
+            depths.push_back(clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, map.depth.size() * 4,
+                                            const_cast<float*>(map.depth.data()), &status));
+            ASSERT_EQ(status, CL_SUCCESS);
+            tables.push_back(clCreateBuffer(cl, CL_MEM_READ_WRITE, 16 * map.depth.size() / map.samples, nullptr,
+                                            &status));
+            ASSERT_EQ(status, CL_SUCCESS);
+            msmcl::Enqueue enqueue;
+            enqueue.queue = i % 2 ? other : nullptr; // alternate: the Context's queue, the other
+            enqueue.done = &done[i];
+            msmcl::build_sat(context(), msmcl::DeviceDepth{depths[i], map.width, map.height, map.samples},
+                             tables[i], options, enqueue);
+        }
+        ASSERT_EQ(clFlush(other), CL_SUCCESS);
+        for (std::size_t i = 0; i < std::size(maps); ++i) {
+            const SatTable expected = msmcl::build_sat(context(), maps[i], options);
+            std::vector<std::uint32_t> words(expected.words.size());
+            ASSERT_EQ(clEnqueueReadBuffer(context().cl_queue_handle(), tables[i], CL_TRUE, 0, words.size() * 4,
+                                          words.data(), 1, &done[i], nullptr),
+                      CL_SUCCESS);
+            EXPECT_EQ(first_difference(words, expected.words), -1)
+                << "map " << i << ", kernel " << static_cast<int>(kernel);
+            clReleaseEvent(done[i]);
+            clReleaseMemObject(tables[i]);
+            clReleaseMemObject(depths[i]);
+        }
+    }
+    clReleaseCommandQueue(other);
+}
+
 // Reference moments of a query: area-weighted mean of the texel integers, inverse affine.
 ref::Moments reference_query(const ref::SatTexels& texels, std::uint32_t scale, const msmcl::SatRectangle& r) {
     return ref::moments_of_channel_mean(ref::area_weighted_mean(texels, r.left, r.top, r.right, r.bottom), scale);
