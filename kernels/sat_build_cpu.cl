@@ -34,6 +34,9 @@
 
 #define LANES 16
 #define BAND_H MSM_SAT_BAND_H
+// The texel loaders and the loops' bodies: left to itself LLVM outlined row_texels16 at
+// S = 8 and returned its 16 texels through the stack.
+#define ALWAYS_INLINE static inline __attribute__((always_inline))
 #if BAND_H % 2
 #error "MSM_SAT_BAND_H must be even: step 1 reads rows in pairs"
 #endif
@@ -203,7 +206,7 @@ static inline void store_planar(texels16 t, __global uint* words) {
 #define SOURCE_TYPE float
 
 // Integer texels of 16 whole texels starting at `first` (msm_sat_texel_of_depth per lane).
-static inline __attribute__((always_inline)) texels16 full_texels16(__global const float* depth, size_t first, uint scale) {
+ALWAYS_INLINE texels16 full_texels16(__global const float* depth, size_t first, uint scale) {
     float16 d[MSM_SAMPLES];
     __global const float* p = depth + first * MSM_SAMPLES;
     PREFETCH_AHEAD(p, MSM_SAMPLES);
@@ -247,7 +250,7 @@ static inline msm_sat_sum single_texel(__global const float* depth, size_t texel
 #define SOURCE_TYPE uint
 
 // Ready texels: R,G,B,A per texel (MSM_SAT_SOURCE 1), or step 1's planar chunks (2).
-static inline __attribute__((always_inline)) texels16 full_texels16(__global const uint* texels, size_t first, uint scale) {
+ALWAYS_INLINE texels16 full_texels16(__global const uint* texels, size_t first, uint scale) {
     (void)scale;
     PREFETCH_AHEAD(texels + 4 * first, 4);
 #if MSM_SAT_SOURCE == 2
@@ -270,8 +273,8 @@ static inline msm_sat_sum single_texel(__global const uint* texels, size_t texel
 #endif
 
 // Row y of the chunk at x0: the 16 texels, zero beyond the map.
-static inline __attribute__((always_inline)) texels16 row_texels16(__global const SOURCE_TYPE* source, int width, int height, int x0, int y,
-                                    uint scale) {
+ALWAYS_INLINE texels16 row_texels16(__global const SOURCE_TYPE* source, int width, int height, int x0, int y,
+                                   uint scale) {
     if (y >= height) return zero_texels16();
     const size_t first = (size_t)y * (size_t)width + (size_t)x0;
     if (x0 + LANES <= width) return full_texels16(source, first, scale);
@@ -338,9 +341,8 @@ static inline void store_step1_texels(texels16 t, __global uint* texels, int wid
 // chunk] (padded_width = chunks * 16; columns beyond the map count as zero). With `texels`
 // (a constant at each use), also each texel's integer values into `texels` (the table's
 // buffer), for step 3 to scan in place.
-static inline __attribute__((always_inline)) void accumulate_band_totals(__global const SOURCE_TYPE* source, int width,
-                                                              int height, uint scale, __global uint* band_totals,
-                                                              __global uint* texels) {
+ALWAYS_INLINE void accumulate_band_totals(__global const SOURCE_TYPE* source, int width, int height, uint scale,
+                                         __global uint* band_totals, __global uint* texels) {
     const int band = (int)get_global_id(0);
     const int y0 = band * BAND_H;
     const int rows = min(BAND_H, height - y0);
@@ -380,8 +382,8 @@ __kernel void sat_band_totals_texels_cpu(__global const float* source, int width
 
 // One row of the table from the column sums at its row, for 16 columns: lane scans plus the
 // row's left carry (updated to this chunk's last lane), stored at (x0, y).
-static inline __attribute__((always_inline)) void scan_chunk_row(texels16 column, texels16* left,
-                                                                 __global uint* table, int width, int x0, int y) {
+ALWAYS_INLINE void scan_chunk_row(texels16 column, texels16* left, __global uint* table, int width, int x0,
+                                  int y) {
     texels16 out;
     out.c0 = lane_prefix(column.c0) + left->c0;
     out.c1 = lane_prefix(column.c1) + left->c1;
@@ -412,10 +414,12 @@ __kernel void sat_band_scan_cpu(__global const SOURCE_TYPE* source, int width, i
         for (int chunk = 0; chunk < chunks; ++chunk) {
             const int x0 = chunk * LANES;
             __global uint* column_at = sums + 4 * LANES * (size_t)chunk;
-            const texels16 upper = add_texels16(load_planar(column_at), row_texels16(source, width, height, x0, y0 + r, scale));
+            const texels16 upper =
+                add_texels16(load_planar(column_at), row_texels16(source, width, height, x0, y0 + r, scale));
             scan_chunk_row(upper, &upper_left, table, width, x0, y0 + r);
             if (lower_in_map) {
-                const texels16 lower = add_texels16(upper, row_texels16(source, width, height, x0, y0 + r + 1, scale));
+                const texels16 lower =
+                    add_texels16(upper, row_texels16(source, width, height, x0, y0 + r + 1, scale));
                 scan_chunk_row(lower, &lower_left, table, width, x0, y0 + r + 1);
                 store_planar(lower, column_at);
             } else {
