@@ -4,6 +4,7 @@
 #include "data/scatter/scatter_geometry.hpp"
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>

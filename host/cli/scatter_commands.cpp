@@ -2,6 +2,7 @@
 #include "cli/option_values.hpp"
 
 #include "io/exr_io.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/scatter.hpp>
