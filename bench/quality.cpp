@@ -15,7 +15,7 @@
 
 #include "io/exr_io.hpp"
 #include "io/png_io.hpp"
-#include "data/tools/msaa_pattern.hpp"
+#include "tools/msaa_pattern.hpp"
 #include "reference/filter_reference.hpp"
 #include "reference/moment_math.hpp"
 

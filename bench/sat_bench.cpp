@@ -63,7 +63,7 @@ __kernel void sat_copy_blocks(__global const float16* depth, __global uint16* ta
     table[4 * b + 3] = words + 3u;
 }
 
-// Percentage-closer soft shadows by brute force (host/reference/sat_reference.cpp
+// Percentage-closer soft shadows by brute force (tests/reference/sat_reference.cpp
 // pcss_shadow): every sample of the SEARCH x SEARCH texel square in front of zf is a
 // blocker; filter side light_size * (zf - mean blocker depth), clamped; area-weighted share
 // of the samples in front of zf over the filter square, clipped to the map.

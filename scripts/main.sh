@@ -15,7 +15,7 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-scatter-scene msmcl-quality
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
-tools=$build/data
+tools=$build/tools
 mkdir -p "$out"
 "$msmcl" devices
 

@@ -2,13 +2,13 @@
 # Regenerates the small sample data committed in data/ and, with --previews, shaded PNG
 # previews of them (needs an OpenCL device). Usage:
 #   scripts/make_sample_data.sh [BUILD_DIR] [--previews]
-# BUILD_DIR (default: build) must hold the built msmcl and data/msmcl-* tools.
+# BUILD_DIR (default: build) must hold the built msmcl and tools/msmcl-* tools.
 # Larger data sets: cmake --build BUILD_DIR --target msmcl_sample_data
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 previews=${2:-}
-tools=$build/data
+tools=$build/tools
 data=$root/data
 
 # Railing scene and Wuson: 256^2 shadow maps with 4x MSAA, 160x120 views.

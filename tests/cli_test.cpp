@@ -2,7 +2,7 @@
 // Bad input: exit 2, one line "msmcl: <file>: <problem>" on stderr, no output file and
 // no temporary file left. Device/runtime failure: exit 1. An unknown --device is a
 // device_error (strict selection), so it exits 1, not 2.
-#include "data/tools/triangle_rasterizer.hpp"
+#include "tools/triangle_rasterizer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
 
@@ -45,9 +45,9 @@ using msmcl::io::ExrImage;
 using msmcl::io::SampleType;
 
 const std::string cli_path = MSMCL_CLI_PATH;
-const std::string scene_tool = std::string(MSMCL_DATA_BUILD_DIR) + "/msmcl-scene";
-const std::string rasterize_tool = std::string(MSMCL_DATA_BUILD_DIR) + "/msmcl-rasterize";
-const std::string preview_tool = std::string(MSMCL_DATA_BUILD_DIR) + "/msmcl-preview";
+const std::string scene_tool = std::string(MSMCL_TOOLS_BUILD_DIR) + "/msmcl-scene";
+const std::string rasterize_tool = std::string(MSMCL_TOOLS_BUILD_DIR) + "/msmcl-rasterize";
+const std::string preview_tool = std::string(MSMCL_TOOLS_BUILD_DIR) + "/msmcl-preview";
 
 /// Fixed default seed, printed; MSMCL_TEST_SEED overrides.
 std::uint32_t test_seed() {

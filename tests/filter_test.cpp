@@ -1,5 +1,5 @@
 // filter on the OpenCL device (PoCL in CI) against the double-precision reference
-// (host/reference/filter_reference.*): resolve + blur, every format, fused == three-pass,
+// (tests/reference/filter_reference.*): resolve + blur, every format, fused == three-pass,
 // sizes, sample counts, depth ranges, sigmas, bad inputs, device path == host path.
 #include "filter_fixtures.hpp"
 

@@ -1,5 +1,5 @@
 // Texel formats of SPEC section 3 (kernels/msm_formats.clh, float32) against hand-computed
-// words and the independent double-precision encoders of host/reference/moment_math.*.
+// words and the independent double-precision encoders of tests/reference/moment_math.*.
 #include <msmcl/device_math.hpp>
 
 #include "kernels/msm_formats.clh"

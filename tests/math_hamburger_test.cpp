@@ -1,5 +1,5 @@
 // Hamburger 4MSM (kernels/msm_shading.clh, float32: the GDC HLSL with SPEC's fixes) against
-// the independent double generic 4MSM (Algorithm 1 of seed 003) of host/reference, and
+// the independent double generic 4MSM (Algorithm 1 of seed 003) of tests/reference, and
 // checks of that reference itself against exact shares of discrete distributions.
 #include <msmcl/device_math.hpp>
 

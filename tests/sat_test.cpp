@@ -1,5 +1,5 @@
 // Integer modular summed-area tables on the OpenCL device (PoCL in CI) against the
-// independent 64-bit references of host/reference/sat_reference.*: whole tables, every
+// independent 64-bit references of tests/reference/sat_reference.*: whole tables, every
 // rectangle of at most N texels on small maps, sampled rectangles on 2048^2, tables that wrap
 // many times, quantization of depth maps, interpolated queries against area-weighted
 // integrals, the tiled scan == the one-thread-per-row baseline, EXR round trip, bad input.

@@ -1,7 +1,7 @@
 // `msmcl scatter` and `msmcl-scatter-scene` run as processes: results equal the library's,
 // inspection maps, and bad input (malformed JSON, zero extinction, a camera inside geometry,
 // wrong sizes, bad options) gives exit 2 with one line naming the file and the problem.
-#include "data/scatter/scatter_geometry.hpp"
+#include "tools/scatter_geometry.hpp"
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
 #include "io/scene_json.hpp"
@@ -35,7 +35,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string cli_path = MSMCL_CLI_PATH;
-const std::string scene_tool = std::string(MSMCL_DATA_BUILD_DIR) + "/msmcl-scatter-scene";
+const std::string scene_tool = std::string(MSMCL_TOOLS_BUILD_DIR) + "/msmcl-scatter-scene";
 
 std::string read_text(const std::string& path) {
     std::ifstream file(path, std::ios::binary);

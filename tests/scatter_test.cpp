@@ -1,9 +1,9 @@
 // Prefiltered single scattering (SPEC section 6): scene files, rectification bounds and
 // coordinates, Algorithm 1 of seed 001, the six-moment transform and bounds (host build of
-// kernels/msm_scatter.clh against the double reference in host/reference/scatter_reference),
+// kernels/msm_scatter.clh against the double reference in tests/reference/scatter_reference),
 // and the kernels on PoCL against that reference: resampling, prefix sums, quantized maps,
 // evaluation, ray marching, and the result against ray marching on the sample scenes.
-#include "data/scatter/scatter_geometry.hpp"
+#include "tools/scatter_geometry.hpp"
 #include "io/scene_json.hpp"
 #include "ops/scatter_params.hpp"
 #include "reference/filter_reference.hpp"

@@ -1,6 +1,6 @@
 // Translucent occluders (SPEC section 7, seed 001 section 4) on PoCL: every filter kernel and
 // the SAT build with translucent layers against the double-precision reference
-// (host/reference/translucent_reference: sort, alpha blending front to back), bit-identity
+// (tests/reference/translucent_reference: sort, alpha blending front to back), bit-identity
 // with the opaque path for no layers and for layers of opacity 0, opacity 1 acting as an
 // opaque surface, plausible partial shadow against the exact transmittance, the EXR layers
 // and the CLI.

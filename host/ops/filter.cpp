@@ -1,14 +1,15 @@
 // filter: depth map -> resolved, blurred, quantized moment shadow map (SPEC sections 2-4).
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/tuning.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstddef>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -27,7 +28,8 @@ constexpr int kFusedTileHeight = 24;
 constexpr unsigned long long kFusedLocalBytes = 4ull * (40 * 32 + 7) * sizeof(float);
 // The CPU distribution (kernels/filter_fused_cpu.cl): one work-item per input column of a
 // tile (width + 8 guard columns), the tile's rows streamed. Tuning parameters, measured
-// on PoCL 3.1 / AVX-512 (bench/): MSMCL_CPU_TILE="WxH" overrides them for other CPUs.
+// on PoCL 3.1 / AVX-512 (bench/): MSMCL_CPU_TILE="WxH" overrides them for other CPUs
+// (host/runtime/tuning.hpp).
 constexpr int kCpuTileWidth = 128;
 constexpr int kCpuTileHeight = 64;
 constexpr int kCpuGuard = 4;
@@ -47,18 +49,12 @@ struct CpuTiling {
     }
 };
 
-// The default tiling, or MSMCL_CPU_TILE ("WxH", W in 8..1024, H in 1..1024) when set.
+// The default tiling, or the MSMCL_CPU_TILE override (host/runtime/tuning.hpp).
 CpuTiling cpu_tiling() {
     CpuTiling tiling;
-    const char* text = std::getenv("MSMCL_CPU_TILE");
-    if (!text) return tiling;
-    int width = 0, height = 0;
-    char separator = 0;
-    std::istringstream in(text);
-    if (in >> width >> separator >> height && separator == 'x' && width >= 2 * kCpuGuard && width <= 1024 &&
-        height >= 1 && height <= 1024) {
-        tiling.width = width;
-        tiling.height = height;
+    if (const std::optional<detail::TileSize> tile = detail::cpu_filter_tile_override(2 * kCpuGuard)) {
+        tiling.width = tile->width;
+        tiling.height = tile->height;
     }
     return tiling;
 }

@@ -1,5 +1,5 @@
 // msmcl-scatter-scene: renders the depth buffers of a box scene for `msmcl scatter` (the
-// light's shadow map and the camera's depth buffer, data/scatter/scatter_geometry.hpp), and
+// light's shadow map and the camera's depth buffer, tools/scatter_geometry.hpp), and
 // measures the quality figures of prefiltered single scattering on it (--figures), over
 // `frames` views of the camera turned by `yaw_step` degrees each about the vertical axis:
 //   - error of 4 and 6 moments (filtered and unfiltered resampling) against ray marching

@@ -1,0 +1,21 @@
+// Tuning overrides from the environment (tuning.hpp).
+#include "runtime/tuning.hpp"
+
+#include <cstdlib>
+#include <sstream>
+
+namespace msmcl::detail {
+
+std::optional<TileSize> cpu_filter_tile_override(int min_width) {
+    const char* text = std::getenv("MSMCL_CPU_TILE");
+    if (!text) return std::nullopt;
+    TileSize tile;
+    char separator = 0;
+    std::istringstream in(text);
+    if (in >> tile.width >> separator >> tile.height && separator == 'x' && tile.width >= min_width &&
+        tile.width <= 1024 && tile.height >= 1 && tile.height <= 1024)
+        return tile;
+    return std::nullopt;
+}
+
+} // namespace msmcl::detail
