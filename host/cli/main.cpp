@@ -54,8 +54,8 @@ int main(int argc, char** argv) {
     msmcl::cli::GlobalArguments global;
     app.add_option("--device", global.device,
                    "OpenCL device: gpu, cpu, an index, P:D (platform:device) or a name substring; "
-                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown SPEC is an error")
-        ->type_name("SPEC");
+                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error")
+        ->type_name("DEVICE");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--out-container C]
     msmcl::cli::FilterArguments filter;

@@ -1,4 +1,4 @@
-// The summed-area table subcommands of msmcl (SPEC section 5):
+// The summed-area table subcommands of msmcl (docs/math.md):
 //   msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range 0,1|-1,1]
 //   msmcl soft SAT.exr RECEIVERS.exr OUT.exr --light-size L [--search-size K]
 //              [--min-filter F] [--depth-bias B] [--depth-range R]
