@@ -1,4 +1,4 @@
-// Integer modular summed-area table (SPEC section 5): input texels -> uint32 channels ->
+// Integer modular summed-area table (docs/math.md): input texels -> uint32 channels ->
 // prefix sums in x and y, wrapping mod 2^32 (any order of additions gives the same bits).
 //
 // Tiled scan for GPUs (work-efficient: every texel is added once per direction, plus
@@ -12,7 +12,7 @@
 // Work-item layout: one work-item per tile column; column walks go down in registers
 // (coalesced loads), row walks run in local memory with a padded pitch (one work-item per
 // row, distinct banks). sat_build_cpu.cl is the same algorithm for CPUs.
-// Baseline (one thread per row, as in seed 001): sat_rows_per_thread then
+// Baseline (one thread per row, as in Peters et al., i3D 2016): sat_rows_per_thread then
 // sat_columns_per_thread.
 //
 // Compile-time: MSM_SAT_SOURCE 0 = depth map (MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; moments
@@ -212,7 +212,7 @@ void sat_tile_scan(__global const SOURCE_TYPE* source, int width, int height, ui
     }
 }
 
-// Baseline, horizontal: one work-item per row, texels converted on the fly (seed 001).
+// Baseline, horizontal: one work-item per row, texels converted on the fly (Peters et al., i3D 2016).
 __kernel void sat_rows_per_thread(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                   __global uint* table) {
     const size_t y = get_global_id(0);

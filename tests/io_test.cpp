@@ -150,7 +150,7 @@ TEST_F(IoTest, EveryTextureFormatRoundTripsBitExactly) {
 }
 
 TEST_F(IoTest, TextureFilesFollowTheSpecLayout) {
-    // SPEC section 8: channel names and types, codes in channels, attributes and their types.
+    // docs/formats.md: channel names and types, codes in channels, attributes and their types.
     const Texture nlq64 = random_texture(Format::nlq64, 5, 4);
     msmcl::io::write_texture_exr(path("nlq64.exr"), nlq64, {2.4f, 4, DepthRange::zero_one});
     const ExrImage image = msmcl::io::read_exr(path("nlq64.exr"));

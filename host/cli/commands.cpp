@@ -1,10 +1,8 @@
 #include "cli/commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/texture_files.hpp"
 
-#include "io/dds.hpp"
 #include "io/exr_io.hpp"
-#include "io/gpu_image.hpp"
-#include "io/ktx2.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -19,36 +17,6 @@
 
 namespace msmcl::cli {
 namespace {
-
-enum class Container { exr, ktx2, dds };
-
-/// --out-container, else the output's extension (.ktx2, .dds; anything else is EXR).
-Container parse_container_option(const std::string& text, const std::string& output) {
-    if (text.empty()) {
-        const auto ends_with = [&](const char* suffix) {
-            const std::string tail(suffix);
-            if (output.size() < tail.size()) return false;
-            std::string end = output.substr(output.size() - tail.size());
-            for (char& c : end) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-            return end == tail;
-        };
-        return ends_with(".ktx2") ? Container::ktx2 : ends_with(".dds") ? Container::dds : Container::exr;
-    }
-    if (text == "exr") return Container::exr;
-    if (text == "ktx2") return Container::ktx2;
-    if (text == "dds") return Container::dds;
-    throw usage_error("unknown --out-container '" + text + "' (expected exr, ktx2 or dds)");
-}
-
-/// A float as the shortest text that reads back to it.
-std::string float_text(float value) {
-    char text[32];
-    for (int digits = 6; digits <= 9; ++digits) {
-        std::snprintf(text, sizeof text, "%.*g", digits, static_cast<double>(value));
-        if (std::strtof(text, nullptr) == value) break;
-    }
-    return text;
-}
 
 /// --frame: a whole number in [0, 2^32 - 1].
 std::uint32_t parse_frame(const std::string& text) {
@@ -84,7 +52,7 @@ void run_filter(const GlobalArguments& global, const FilterArguments& arguments)
     const float sigma = parse_finite_float("--sigma", arguments.sigma);
     if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + arguments.sigma + "'");
     const DepthRange range = parse_depth_range_option(arguments.depth_range);
-    const Container container = parse_container_option(arguments.out_container, arguments.output);
+    const Container container = output_container(arguments.out_container, arguments.output);
 
     // Read and validate the depth map and its translucent layers (layer<k>.Z, layer<k>.A).
     const io::TranslucentDepth layered = io::read_translucent_depth_exr(arguments.input, range);
@@ -104,17 +72,7 @@ void run_filter(const GlobalArguments& global, const FilterArguments& arguments)
     }
 
     // Publish the texture with what it was made from (DDS has no place for the record).
-    if (container == Container::exr) {
-        io::write_texture_exr(arguments.output, texture, io::TextureInfo{sigma, depth.samples, range});
-        return;
-    }
-    const io::GpuImage image = io::gpu_image_of(texture, {{"msmcl:sigma", float_text(sigma)},
-                                                          {"msmcl:samples", std::to_string(depth.samples)},
-                                                          {"msmcl:depthRange", depth_range_name(range)}});
-    if (container == Container::ktx2)
-        io::write_ktx2(arguments.output, image);
-    else
-        io::write_dds(arguments.output, image);
+    write_texture_file(arguments.output, container, texture, io::TextureInfo{sigma, depth.samples, range});
 }
 
 void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
@@ -127,10 +85,17 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     options.frame = parse_frame(arguments.frame);
     std::optional<DepthRange> range;
     if (!arguments.depth_range.empty()) range = parse_depth_range_option(arguments.depth_range);
+    std::optional<Format> format;
+    if (!arguments.format.empty()) {
+        format = parse_format(arguments.format);
+        if (!format)
+            throw usage_error("unknown --format '" + arguments.format + "' (expected moments128, msm64, nlq64 or nlq32)");
+    }
+    require_exr_output(arguments.output);
 
-    // Read the map and the receivers; the receivers' depth follows the map's convention
-    // unless --depth-range says otherwise.
-    const io::TextureFile map = io::read_texture_exr(arguments.map);
+    // Read the map (EXR, KTX2 or DDS) and the receivers; the receivers' depth follows the
+    // map's convention unless --depth-range says otherwise.
+    const io::TextureFile map = read_texture_file(arguments.map, format);
     const io::ReceiverGrid receivers = io::read_receivers_exr(arguments.receivers);
     options.depth_range = range.value_or(map.info.depth_range);
     // Screen pixels for dither: the PX, PY channels, else the receivers' own grid.

@@ -54,8 +54,8 @@ int main(int argc, char** argv) {
     msmcl::cli::GlobalArguments global;
     app.add_option("--device", global.device,
                    "OpenCL device: gpu, cpu, an index, P:D (platform:device) or a name substring; "
-                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown SPEC is an error")
-        ->type_name("SPEC");
+                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error")
+        ->type_name("DEVICE");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--out-container C]
     msmcl::cli::FilterArguments filter;
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
     msmcl::cli::ShadeArguments shade;
     CLI::App* shade_command =
         app.add_subcommand("shade", "Filtered map + receivers (EXR U,V,Z) -> shadow intensity (EXR Y)");
-    shade_command->add_option("map", shade.map, "texture EXR written by msmcl filter")->required();
+    shade_command->add_option("map", shade.map, "texture written by msmcl filter (EXR, KTX2 or DDS)")->required();
     shade_command->add_option("receivers", shade.receivers,
                               "receivers EXR (FLOAT U, V in texels, Z depth; optional PX, PY screen pixels)")
         ->required();
@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
     shade_command->add_option("--depth-range", shade.depth_range,
                               "depth convention of the receivers: 0,1 or -1,1 (default: the map's)")
         ->type_name("RANGE");
+    shade_command->add_option("--format", shade.format,
+                              "the map's format (default: the file's; required for DDS msm64/nlq64 maps)")
+        ->type_name("FORMAT");
 
     // msmcl sat ... and msmcl soft ... (host/cli/sat_commands.cpp)
     msmcl::cli::SatCommands sat_commands;

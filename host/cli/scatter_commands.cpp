@@ -1,5 +1,6 @@
 #include "cli/scatter_commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/texture_files.hpp"
 
 #include "io/exr_io.hpp"
 #include "io/scene_json.hpp"
@@ -93,6 +94,10 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     const auto jitter = static_cast<std::uint32_t>(parse_integer("--jitter", a.jitter, 0, 0xffffffffL));
     if (ray_steps > 0 && (!a.rectified.empty() || !a.prefix_sums.empty()))
         throw usage_error("--rectified and --prefix-sums need the prefiltered method (no --ray-march)");
+    // Every output of scatter is OpenEXR.
+    require_exr_output(a.output);
+    if (!a.rectified.empty()) require_exr_output(a.rectified);
+    if (!a.prefix_sums.empty()) require_exr_output(a.prefix_sums);
 
     // Read and check the inputs.
     const ScatterScene scene = load_scatter_scene(a.scene);

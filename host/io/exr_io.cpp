@@ -763,7 +763,7 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
     if (texture.words.size() != texels * words_per_texel) fail(path, "texture size does not match its data");
     if (!std::isfinite(info.sigma) || info.sigma < 0.0f) fail(path, "sigma must be finite and >= 0");
 
-    // Split texels into channels as SPEC section 8 lays them out.
+    // Split texels into channels as docs/formats.md lays them out.
     const TextureLayout layout = texture_layout(texture.format);
     ExrImage image;
     image.width = texture.width;

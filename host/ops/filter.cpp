@@ -1,4 +1,4 @@
-// filter: depth map -> resolved, blurred, quantized moment shadow map (SPEC sections 2-4).
+// filter: depth map -> resolved, blurred, quantized moment shadow map (docs/math.md).
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
 

@@ -10,7 +10,7 @@
 
 namespace msmcl {
 
-/// Which kernel does the work. All produce the same texture (SPEC section 4; the
+/// Which kernel does the work. All produce the same texture (docs/kernels.md; the
 /// fused kernel shifts moments per block before Algorithm 2, which makes nlq codes
 /// more accurate than three_pass in flat regions).
 enum class FilterKernel {
@@ -56,7 +56,7 @@ struct DeviceDepth {
 void filter(Context& context, const DeviceDepth& depth, cl_mem texture,
             const FilterOptions& options, const Enqueue& enqueue = {});
 
-// ---- Translucent occluders (SPEC section 7, seed 001 section 4).
+// ---- Translucent occluders (docs/math.md, Peters et al., i3D 2016, section 4).
 
 /// Most translucent layers one call composites.
 inline constexpr int max_translucent_layers = 8;

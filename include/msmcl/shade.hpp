@@ -18,7 +18,7 @@ enum class Lookup {
     bilinear, ///< between texel centres around (u-0.5, v-0.5): moments for moments128/msm64,
               ///< the four shadow intensities for nlq64/nlq32
     dither,   ///< one texel floor(u - 0.5 + nx), floor(v - 0.5 + ny) with blue noise (nx, ny) in
-              ///< [0,1) of the receiver's screen pixel and the frame (SPEC sections 7, 8);
+              ///< [0,1) of the receiver's screen pixel and the frame (docs/math.md);
               ///< averaged over frames, the bilinear blend of the shaded texels
 };
 const char* lookup_name(Lookup lookup) noexcept;
@@ -26,7 +26,7 @@ std::optional<Lookup> parse_lookup(std::string_view name) noexcept;
 
 struct ShadeOptions {
     Lookup lookup = Lookup::bilinear;
-    /// Subtracted from the receiver's internal depth z (SPEC section 2) before shading.
+    /// Subtracted from the receiver's internal depth z (docs/math.md) before shading.
     float depth_bias = 1e-3f;
     /// Convention of the receivers' z (normally the map's).
     DepthRange depth_range = DepthRange::zero_one;
@@ -71,7 +71,7 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, std
 void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_mem receiver_pixels,
            std::size_t count, cl_mem intensity, const ShadeOptions& options, const Enqueue& enqueue = {});
 
-/// The blue noise of the dithered lookup (SPEC section 7): void-and-cluster (Ulichney 1993,
+/// The blue noise of the dithered lookup (docs/math.md): void-and-cluster (Ulichney 1993,
 /// Gaussian sigma 1.9), generated at build time from a fixed seed: 64 tileable textures of
 /// 64x64 texels, 2 channels of 8 bits, each channel a permutation of the levels 0..255 (16
 /// texels each). blue_noise_bytes() bytes, byte ((texture * 64 + y) * 64 + x) * 2 + channel;
