@@ -16,6 +16,7 @@
 #include "runtime/opencl.hpp"
 
 #include <msmcl/context.hpp>
+#include <msmcl/device_math.hpp>
 #include <msmcl/shade.hpp>
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -16,9 +16,7 @@
 
 #include <msmcl/context.hpp>
 #include <msmcl/enqueue.hpp>
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/shade.hpp>
+#include <msmcl/types.hpp>
 
 #include <array>
 #include <cstdint>
