@@ -2,6 +2,7 @@
 // Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
 // Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>".
 #include "cli/commands.hpp"
+#include "cli/info_command.hpp"
 #include "cli/sat_commands.hpp"
 #include "cli/scatter_commands.hpp"
 
@@ -110,6 +111,10 @@ int main(int argc, char** argv) {
 
     CLI::App* devices_command = app.add_subcommand("devices", "List OpenCL devices; marks the one msmcl picks");
 
+    // msmcl info FILE... [--json] (host/cli/info_command.cpp)
+    msmcl::cli::InfoArguments info;
+    msmcl::cli::add_info_command(app, info);
+
     // Parse: help and version go to stdout with exit 0, every other parse error is usage.
     try {
         app.parse(argc, argv);
@@ -128,6 +133,7 @@ int main(int argc, char** argv) {
         if (filter_command->parsed()) msmcl::cli::run_filter(global, filter);
         else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
         else if (devices_command->parsed()) msmcl::cli::run_devices(global);
+        else if (info.command->parsed()) msmcl::cli::run_info(info);
         else if (scatter.command->parsed()) msmcl::cli::run_scatter(global, scatter);
         else msmcl::cli::run_sat_commands(global, sat_commands);
         return 0;
