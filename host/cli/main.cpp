@@ -5,6 +5,7 @@
 #include "cli/info_command.hpp"
 #include "cli/sat_commands.hpp"
 #include "cli/scatter_commands.hpp"
+#include "cli/suggestions.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/version.hpp>
@@ -125,7 +126,10 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        return report(e.what(), exit_bad_input);
+        // A typo reads as a missing word to CLI11: name the unknown word instead.
+        const std::vector<std::string> arguments(argv + 1, argv + argc);
+        const std::optional<std::string> unknown = msmcl::cli::unknown_word_message(app, arguments);
+        return report(unknown ? *unknown : std::string(e.what()), exit_bad_input);
     }
 
     // Run the chosen subcommand and map failures to exit codes.
