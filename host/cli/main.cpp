@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
                    "OpenCL device: gpu, cpu, an index, P:D (platform:device) or a name substring; "
                    "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error")
         ->type_name("DEVICE");
+    app.add_flag("--verbose", global.verbose,
+                 "print a timing line per stage on stderr (read, device setup, program build or cache hit, "
+                 "upload, kernel, download, write)");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--out-container C]
     msmcl::cli::FilterArguments filter;
