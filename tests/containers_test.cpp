@@ -6,6 +6,7 @@
 // three containers with the same result, every command that writes one (filter, sat)
 // writes all three, an unknown output extension is exit 2 with no output, and DDS files
 // whose texels do not tell their format are refused unless --format / --max-kernel says.
+// `msmcl info` on every kind of file, as text and JSON (nlohmann-json).
 // Debian 12 packages no KTX2 tool (KTX-Software's `ktx` is not packaged) and no reader known
 // to take these DX10 DDS formats (ImageMagick 6 and Pillow 9 target DXT/BC; not tried), so
 // the layouts are pinned here instead. Seed: MSMCL_TEST_SEED (default 6).
@@ -22,6 +23,7 @@
 #include <msmcl/version.hpp>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -29,6 +31,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <string>
 #include <sys/wait.h>
@@ -500,6 +503,83 @@ TEST_F(CliContainers, AmbiguousDdsNeedsTheUserToSay) {
     EXPECT_EQ(cli("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y2.exr")), 0) << err();
     EXPECT_EQ(cli("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("y3.exr") + " --light-size 4 --max-kernel 729"),
               0) << err();
+}
+
+
+// msmcl info: kind, size, format, samples, layers, attributes, ranges and counts of
+// NaN/Inf/out-of-range values for every kind of file, in text and in JSON.
+TEST_F(CliContainers, InfoDescribesEveryKindOfFile) {
+    // A broken depth map (which filter refuses) is described, with its bad values counted.
+    msmcl::io::ExrImage broken;
+    broken.width = 4;
+    broken.height = 2;
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    broken.channels = {{"Z", msmcl::io::SampleType::float32, {0.5f, nan, inf, 1.5f, -0.25f, 0.0f, 1.0f, nan}, {}},
+                       {"layer0.Z", msmcl::io::SampleType::float32, std::vector<float>(8, 0.25f), {}},
+                       {"layer0.A", msmcl::io::SampleType::float32, std::vector<float>(8, 2.0f), {}}};
+    msmcl::io::write_exr(path("broken.exr"), broken);
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("map.ktx2") + " --format nlq32 --sigma 1.5"), 0) << err();
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("map.exr") + " --format msm64"), 0) << err();
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("map.dds") + " --format nlq64"), 0) << err();
+    ASSERT_EQ(cli("sat " + q("depth.exr") + " " + q("sat.exr") + " --max-kernel 100"), 0) << err();
+    ASSERT_EQ(cli("shade " + q("map.exr") + " " + q("receivers.exr") + " " + q("y.exr")), 0) << err();
+
+    const std::string files = q("broken.exr") + " " + q("depth.exr") + " " + q("receivers.exr") + " " + q("map.exr") +
+                              " " + q("map.ktx2") + " " + q("map.dds") + " " + q("sat.exr") + " " + q("y.exr");
+    ASSERT_EQ(cli("info --json " + files + " > " + q("info.json")), 0) << err();
+    const nlohmann::json all = nlohmann::json::parse(bytes("info.json"));
+    ASSERT_EQ(all.size(), 8u);
+    const auto channel = [](const nlohmann::json& info, const std::string& name) {
+        for (const nlohmann::json& c : info.at("channels"))
+            if (c.at("name") == name) return c;
+        ADD_FAILURE() << "no channel " << name << " in " << info.dump();
+        return nlohmann::json::object();
+    };
+    // Broken depth map: 2 NaN, 1 Inf, 2 finite values outside [0, 1]; opacities 2.0 outside [0, 1].
+    const nlohmann::json& depth_info = all[0];
+    EXPECT_EQ(depth_info.at("kind"), "depth map");
+    EXPECT_EQ(depth_info.at("width"), 4);
+    EXPECT_EQ(depth_info.at("samples"), 1);
+    EXPECT_EQ(depth_info.at("layers"), 1);
+    const nlohmann::json z = channel(depth_info, "Z");
+    EXPECT_EQ(z.at("nan"), 2);
+    EXPECT_EQ(z.at("inf"), 1);
+    EXPECT_EQ(z.at("out_of_range"), 2);
+    EXPECT_EQ(z.at("min"), -0.25);
+    EXPECT_EQ(z.at("max"), 1.5);
+    EXPECT_EQ(channel(depth_info, "layer0.A").at("out_of_range"), 8);
+    // The good depth map: 2 samples, nothing bad.
+    EXPECT_EQ(all[1].at("samples"), 2);
+    EXPECT_EQ(channel(all[1], "sample1.Z").at("out_of_range"), 0);
+    EXPECT_EQ(all[2].at("kind"), "receivers");
+    // Maps in every container: format, record and decoded quantities.
+    EXPECT_EQ(all[3].at("kind"), "moment shadow map");
+    EXPECT_EQ(all[3].at("format"), "msm64");
+    EXPECT_EQ(all[3].at("attributes").at("msmcl:format"), "msm64");
+    EXPECT_EQ(channel(all[3], "b2").at("count"), 37 * 29);
+    EXPECT_EQ(all[4].at("container"), "ktx2");
+    EXPECT_EQ(all[4].at("format"), "nlq32");
+    EXPECT_EQ(all[4].at("attributes").at("msmcl:sigma"), "1.5");
+    EXPECT_EQ(channel(all[4], "xi4").at("out_of_range"), 0);
+    EXPECT_EQ(all[5].at("container"), "dds");
+    EXPECT_EQ(all[5].at("format"), "msm64 or nlq64");
+    EXPECT_EQ(all[6].at("kind"), "summed-area table");
+    EXPECT_EQ(all[6].at("max_kernel_texels"), 100);
+    EXPECT_EQ(all[7].at("kind"), "shadow intensity");
+    EXPECT_EQ(channel(all[7], "Y").at("out_of_range"), 0);
+
+    // Text: one headline per file, a line per channel with the same counts.
+    ASSERT_EQ(cli("info " + files + " > " + q("info.txt")), 0) << err();
+    const std::string text = bytes("info.txt");
+    EXPECT_NE(text.find(path("broken.exr") + ": depth map, 4x2, exr, samples 1, layers 1"), std::string::npos) << text;
+    EXPECT_NE(text.find("  Z (float32): min -0.25, max 1.5, NaN 2, Inf 1, outside [0, 1] 2"), std::string::npos) << text;
+    EXPECT_NE(text.find(path("map.ktx2") + ": moment shadow map, 37x29, ktx2, format nlq32"), std::string::npos) << text;
+
+    // A file that cannot be parsed: exit 2, one line naming it, nothing on stdout.
+    std::system(("echo hello > " + q("text.exr")).c_str());
+    EXPECT_EQ(cli("info " + q("map.exr") + " " + q("text.exr") + " > " + q("bad.txt")), 2);
+    EXPECT_NE(err().find(path("text.exr") + ": not an OpenEXR, KTX2 or DDS file"), std::string::npos) << err();
+    EXPECT_EQ(bytes("bad.txt"), "");
 }
 
 } // namespace

@@ -38,6 +38,7 @@ struct ShadeArguments {
 /// Global options shared by every subcommand.
 struct GlobalArguments {
     std::string device; ///< empty: default selection (MSMCL_DEVICE, else first GPU, ...)
+    bool verbose = false; ///< --verbose: a timing line per stage on stderr
     DeviceSelection selection() const;
 };
 

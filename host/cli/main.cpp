@@ -2,8 +2,10 @@
 // Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
 // Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>".
 #include "cli/commands.hpp"
+#include "cli/info_command.hpp"
 #include "cli/sat_commands.hpp"
 #include "cli/scatter_commands.hpp"
+#include "cli/suggestions.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/version.hpp>
@@ -56,6 +58,9 @@ int main(int argc, char** argv) {
                    "OpenCL device: gpu, cpu, an index, P:D (platform:device) or a name substring; "
                    "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error")
         ->type_name("DEVICE");
+    app.add_flag("--verbose", global.verbose,
+                 "print a timing line per stage on stderr (read, device setup, program build or cache hit, "
+                 "upload, kernel, download, write)");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--out-container C]
     msmcl::cli::FilterArguments filter;
@@ -110,6 +115,10 @@ int main(int argc, char** argv) {
 
     CLI::App* devices_command = app.add_subcommand("devices", "List OpenCL devices; marks the one msmcl picks");
 
+    // msmcl info FILE... [--json] (host/cli/info_command.cpp)
+    msmcl::cli::InfoArguments info;
+    msmcl::cli::add_info_command(app, info);
+
     // Parse: help and version go to stdout with exit 0, every other parse error is usage.
     try {
         app.parse(argc, argv);
@@ -120,7 +129,10 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        return report(e.what(), exit_bad_input);
+        // A typo reads as a missing word to CLI11: name the unknown word instead.
+        const std::vector<std::string> arguments(argv + 1, argv + argc);
+        const std::optional<std::string> unknown = msmcl::cli::unknown_word_message(app, arguments);
+        return report(unknown ? *unknown : std::string(e.what()), exit_bad_input);
     }
 
     // Run the chosen subcommand and map failures to exit codes.
@@ -128,6 +140,7 @@ int main(int argc, char** argv) {
         if (filter_command->parsed()) msmcl::cli::run_filter(global, filter);
         else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
         else if (devices_command->parsed()) msmcl::cli::run_devices(global);
+        else if (info.command->parsed()) msmcl::cli::run_info(info);
         else if (scatter.command->parsed()) msmcl::cli::run_scatter(global, scatter);
         else msmcl::cli::run_sat_commands(global, sat_commands);
         return 0;

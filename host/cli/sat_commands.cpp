@@ -1,5 +1,6 @@
 #include "cli/sat_commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/stages.hpp"
 #include "cli/texture_files.hpp"
 
 #include "io/exr_io.hpp"
@@ -93,19 +94,36 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
     options.depth_range = parse_depth_range_option(arguments.depth_range);
     const Container container = output_container(arguments.out_container, arguments.output);
 
+    Stages stages(global.verbose, global.verbose ? 5 : 4);
+
     // Read and validate the depth map (and its translucent layers), build the table on the device.
-    const io::TranslucentDepth layered = io::read_translucent_depth_exr(arguments.input, options.depth_range);
+    const io::TranslucentDepth layered =
+        stages.run("read", [&] { return io::read_translucent_depth_exr(arguments.input, options.depth_range); });
     const DepthImage& depth = layered.depth;
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
+    if (stages.verbose())
+        stages.run("program", [&] {
+            // A table of a 1x1 map of the same kind builds (or finds) the programs.
+            const std::size_t built = context.programs_built();
+            const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
+            const DepthImage tiny{1, 1, depth.samples, std::vector<float>(static_cast<std::size_t>(depth.samples), mid)};
+            build_sat(context, tiny, std::vector<TranslucentLayer>(layered.layers.size(), {tiny.depth, tiny.depth}),
+                      options);
+            const std::size_t now = context.programs_built() - built;
+            stages.note(now == 0 ? "cache hit" : std::to_string(now) + " programs built");
+        });
     SatTable table;
     try {
-        table = build_sat(context, depth, layered.layers, options);
+        table = stages.run("table build (upload, kernels, download)",
+                           [&] { return build_sat(context, depth, layered.layers, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.input, e);
     }
 
     // Publish the table with what a reader needs to query it.
-    write_sat_file(arguments.output, container, table, io::SatInfo{options.depth_range, depth.samples});
+    stages.run("write", [&] {
+        write_sat_file(arguments.output, container, table, io::SatInfo{options.depth_range, depth.samples});
+    });
 }
 
 void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
@@ -128,8 +146,10 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
 
     // Read the table (EXR, KTX2 or DDS) and the receivers; limits that depend on the table's
     // N are checked here.
-    const io::SatFile table = read_sat_file(arguments.table, max_kernel);
-    const io::ReceiverGrid receivers = io::read_receivers_exr(arguments.receivers);
+    Stages stages(global.verbose, 5);
+    const io::SatFile table = stages.run("read table", [&] { return read_sat_file(arguments.table, max_kernel); });
+    const io::ReceiverGrid receivers =
+        stages.run("read receivers", [&] { return io::read_receivers_exr(arguments.receivers); });
     options.depth_range = range.value_or(table.info.depth_range);
     try {
         soft_shadow_limits(table.table.max_kernel_texels, options);
@@ -139,14 +159,16 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     }
 
     // Shade on the device.
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> intensity;
     try {
-        intensity = soft_shade(context, table.table, receivers.points, options);
+        intensity = stages.run("soft shadows (program, upload, kernel, download)",
+                               [&] { return soft_shade(context, table.table, receivers.points, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.receivers, e);
     }
-    io::write_intensity_exr(arguments.output, receivers.width, receivers.height, intensity);
+    stages.run("write",
+               [&] { io::write_intensity_exr(arguments.output, receivers.width, receivers.height, intensity); });
 }
 
 } // namespace msmcl::cli

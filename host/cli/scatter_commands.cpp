@@ -1,5 +1,6 @@
 #include "cli/scatter_commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/stages.hpp"
 #include "cli/texture_files.hpp"
 
 #include "io/exr_io.hpp"
@@ -99,10 +100,14 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     if (!a.rectified.empty()) require_exr_output(a.rectified);
     if (!a.prefix_sums.empty()) require_exr_output(a.prefix_sums);
 
+    Stages stages(global.verbose, 6);
+
     // Read and check the inputs.
-    const ScatterScene scene = load_scatter_scene(a.scene);
-    const DepthImage shadow_map = io::read_depth_exr(a.shadow_map, scene.light.depth_range);
-    const std::vector<float> camera_depth = read_camera_depth(a.camera_depth, scene);
+    const ScatterScene scene = stages.run("read scene", [&] { return load_scatter_scene(a.scene); });
+    const DepthImage shadow_map =
+        stages.run("read shadow map", [&] { return io::read_depth_exr(a.shadow_map, scene.light.depth_range); });
+    const std::vector<float> camera_depth =
+        stages.run("read camera depth", [&] { return read_camera_depth(a.camera_depth, scene); });
     try {
         validate_scatter_inputs(scene, shadow_map, camera_depth);
     } catch (const input_error& e) {
@@ -111,16 +116,18 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     }
 
     // Compute on the device.
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> radiance;
     std::string method;
-    if (ray_steps > 0) {
-        radiance = scatter_ray_march(context, scene, shadow_map, camera_depth, ray_steps, jitter);
-        method = "ray_march_" + std::to_string(ray_steps);
-    } else {
-        radiance = scatter(context, scene, shadow_map, camera_depth, options);
-        method = "prefiltered_" + std::to_string(options.moments) + (options.filtered ? "_filtered" : "_unfiltered");
-    }
+    stages.run("scatter (program, upload, kernels, download)", [&] {
+        if (ray_steps > 0) {
+            radiance = scatter_ray_march(context, scene, shadow_map, camera_depth, ray_steps, jitter);
+            method = "ray_march_" + std::to_string(ray_steps);
+        } else {
+            radiance = scatter(context, scene, shadow_map, camera_depth, options);
+            method = "prefiltered_" + std::to_string(options.moments) + (options.filtered ? "_filtered" : "_unfiltered");
+        }
+    });
     if (!a.rectified.empty())
         write_moments_exr(a.rectified, scene.rectified_width, scene.rectified_height, options.moments,
                           scatter_rectified_moments(context, scene, shadow_map, options, false), "resampled");
@@ -135,7 +142,7 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     image.height = scene.camera.height;
     image.channels = {{"Y", io::SampleType::float32, radiance, {}}};
     image.attributes = {{"msmcl:scatterMethod", method}};
-    io::write_exr(a.output, image);
+    stages.run("write", [&] { io::write_exr(a.output, image); });
 }
 
 } // namespace msmcl::cli
