@@ -2,11 +2,14 @@
 #include "cli/option_values.hpp"
 
 #include "io/exr_io.hpp"
+#include "io/gpu_image.hpp"
+#include "io/ktx2.hpp"
 #include "io/sat_exr.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/sat.hpp>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -20,16 +23,24 @@ namespace {
     throw input_error(path + ": " + e.what());
 }
 
+/// True when `path` ends in `.ktx2` (any case).
+bool is_ktx2_path(const std::string& path) {
+    if (path.size() < 5) return false;
+    std::string tail = path.substr(path.size() - 5);
+    for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return tail == ".ktx2";
+}
+
 } // namespace
 
 void add_sat_commands(CLI::App& app, SatCommands& commands) {
     // msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range R]
     SatArguments& sat = commands.sat;
     CLI::App* sat_command = app.add_subcommand(
-        "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, UINT R,G,B,A)");
+        "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR UINT R,G,B,A, or KTX2)");
     sat_command->add_option("input", sat.input, "depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A)")
         ->required();
-    sat_command->add_option("output", sat.output, "table EXR to write")->required();
+    sat_command->add_option("output", sat.output, "table to write: EXR, or KTX2 (R32G32B32A32_UINT) for a .ktx2 name")->required();
     sat_command->add_option("--max-kernel", sat.max_kernel,
                             "N: texels of the largest rectangle ever queried (precision log2(2^32/N) bits)")
         ->capture_default_str()
@@ -96,7 +107,15 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
         rethrow_with_file(arguments.input, e);
     }
 
-    // Publish the table with what a reader needs to query it.
+    // Publish the table with what a reader needs to query it: EXR, or for a renderer a KTX2
+    // file of R32G32B32A32_UINT texels (N and the scale as metadata).
+    if (is_ktx2_path(arguments.output)) {
+        io::GpuImage image = io::gpu_image_of(table);
+        image.metadata.emplace_back("msmcl:samples", std::to_string(depth.samples));
+        image.metadata.emplace_back("msmcl:depthRange", depth_range_name(options.depth_range));
+        io::write_ktx2(arguments.output, image);
+        return;
+    }
     io::write_sat_exr(arguments.output, table, io::SatInfo{options.depth_range, depth.samples});
 }
 
