@@ -412,7 +412,8 @@ void run_compare(const CompareArguments& c) {
     if (a.width != b.width || a.height != b.height)
         throw msmcl::input_error(c.b + ": " + std::to_string(b.width) + "x" + std::to_string(b.height) + ", " + c.a +
                                  " is " + std::to_string(a.width) + "x" + std::to_string(a.height));
-    // Statistics of b - a; the PNG shows it red where b is larger, blue where smaller.
+    // Statistics of b - a. The PNG shows a dimmed grey copy of a (lit lighter) with b - a on
+    // top: red where b is larger, blue where smaller, full colour at --diff-scale.
     double sum_squares = 0, largest = 0;
     std::size_t above_1e3 = 0, above_1e2 = 0, above_1e1 = 0;
     std::vector<float> rgb(ca->values.size() * 3, 0.0f);
@@ -423,8 +424,10 @@ void run_compare(const CompareArguments& c) {
         above_1e3 += std::fabs(d) > 1e-3;
         above_1e2 += std::fabs(d) > 1e-2;
         above_1e1 += std::fabs(d) > 1e-1;
-        rgb[3 * i + 0] = d > 0 ? static_cast<float>(d / scale) : 0.0f;
-        rgb[3 * i + 2] = d < 0 ? static_cast<float>(-d / scale) : 0.0f;
+        const float grey = 0.1f + 0.25f * (1.0f - std::min(std::max(ca->values[i], 0.0f), 1.0f));
+        const float strength = static_cast<float>(std::min(std::fabs(d) / scale, 1.0));
+        rgb[3 * i + 0] = rgb[3 * i + 1] = rgb[3 * i + 2] = grey * (1.0f - strength);
+        rgb[3 * i + (d > 0 ? 0 : 2)] += strength;
     }
     const std::size_t n = ca->values.size();
     std::printf("%zu values: max |b - a| %.3g, rms %.3g, above 1e-3: %zu, above 1e-2: %zu, above 0.1: %zu\n", n,
