@@ -11,7 +11,7 @@
 //
 //   msmcl-vulkan devices
 //   msmcl-vulkan shade MAP.ktx2 RECEIVERS.exr OUT.exr [--lookup nearest|bilinear|dither|hardware] [--frame N]
-//                [--depth-bias B] [--depth-range 0,1|-1,1] [--hlsl]
+//                [--depth-bias B] [--depth-range 0,1|-1,1] [--accurate] [--hlsl]
 //   msmcl-vulkan soft SAT.ktx2 RECEIVERS.exr OUT.exr --light-size L [--search-size K] [--min-filter F]
 //                [--depth-bias B] [--depth-range R] [--hlsl]
 //   msmcl-vulkan scatter SCENE.json MAP.ktx2 CAMERA_DEPTH.exr OUT.exr [--beta adaptive|B] [--hlsl]
@@ -167,6 +167,7 @@ struct ShadeArguments {
     std::uint32_t frame = 0;
     std::string depth_bias = "1e-3";
     std::string depth_range;
+    bool accurate = false;
 };
 
 struct ShadePush {
@@ -176,6 +177,7 @@ struct ShadePush {
     float depth_bias;
     std::uint32_t zero_one;
     std::uint32_t noise_texture, noise_offset_x, noise_offset_y;
+    std::uint32_t accurate;
 };
 
 void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArguments& a) {
@@ -199,6 +201,8 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
     if (lookup_index == 3 && !filterable)
         throw usage_error("--lookup hardware filters the texture, which only moments128 and msm64 allow (" +
                           std::string(msmcl::format_name(*format)) + " is shaded per texel, then blended)");
+    if (a.accurate && (*format != msmcl::Format::moments128 || lookup_index == 3))
+        throw usage_error("--accurate is the float-float path of moments128 with the nearest, bilinear or dither lookup");
     const msmcl::io::ReceiverGrid grid = msmcl::io::read_receivers_exr(a.receivers);
 
     // The texture in its documented format; linear filtering where the README allows it.
@@ -230,7 +234,8 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
                          depth_range_of(image, range_option) == msmcl::DepthRange::zero_one ? 1u : 0u,
                          frame.texture,
                          frame.offset_x,
-                         frame.offset_y};
+                         frame.offset_y,
+                         a.accurate ? 1u : 0u};
     static const std::vector<std::uint32_t> glsl[4] = {words(shade_glsl_0), words(shade_glsl_1), words(shade_glsl_2),
                                                        words(shade_glsl_3)};
     static const std::vector<std::uint32_t> hlsl[4] = {words(shade_hlsl_0), words(shade_hlsl_1), words(shade_hlsl_2),
@@ -464,6 +469,8 @@ int main(int argc, char** argv) {
     shade_command->add_option("--depth-bias", shade.depth_bias, "subtracted from the internal depth")
         ->capture_default_str();
     shade_command->add_option("--depth-range", shade.depth_range, "0,1 or -1,1 (default: the map's)");
+    shade_command->add_flag("--accurate", shade.accurate,
+                            "moments128: shade in float-float (msm_lookup_moments128_accurate), as msmcl does");
 
     SoftArguments soft;
     CLI::App* soft_command = app.add_subcommand("soft", "SAT KTX2 + receivers EXR -> soft shadow EXR (Y)");

@@ -38,6 +38,7 @@ layout(push_constant) uniform Params {
     uint noise_texture;  // msm_blue_noise_frame_of(frame), computed once per frame
     uint noise_offset_x;
     uint noise_offset_y;
+    uint accurate;       // moments128: the float-float path (msm_lookup_moments128_accurate)
 } params;
 
 void main() {
@@ -57,6 +58,11 @@ void main() {
     if (params.lookup == 3) {
         vec2 uv = vec2(r.u / float(params.width), r.v / float(params.height));
         shadow[i] = msm_shadow_moments128_fast(msm_decode_moments128(textureLod(shadow_map, uv, 0.0f)), zf);
+        return;
+    }
+    if (params.accurate != 0u) {
+        shadow[i] = msm_lookup_moments128_accurate(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup,
+                                                   noise);
         return;
     }
     shadow[i] = msm_lookup_moments128(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);

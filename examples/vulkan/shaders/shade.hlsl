@@ -31,6 +31,7 @@ struct Params {
     uint noise_texture;
     uint noise_offset_x;
     uint noise_offset_y;
+    uint accurate;
 };
 [[vk::push_constant]] ConstantBuffer<Params> params;
 
@@ -52,6 +53,11 @@ void main(uint3 id : SV_DispatchThreadID) {
     if (params.lookup == 3) {
         float2 uv = float2(r.u / float(params.width), r.v / float(params.height));
         shadow[i] = msm_shadow_moments128_fast(msm_decode_moments128(shadow_map.SampleLevel(map_sampler, uv, 0)), zf);
+        return;
+    }
+    if (params.accurate != 0u) {
+        shadow[i] = msm_lookup_moments128_accurate(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup,
+                                                   noise);
         return;
     }
     shadow[i] = msm_lookup_moments128(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
