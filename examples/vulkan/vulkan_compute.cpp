@@ -310,6 +310,15 @@ VkSampler VulkanCompute::create_sampler(VkFilter filter, VkSamplerAddressMode ad
 void VulkanCompute::dispatch(const std::vector<std::uint32_t>& spirv, const char* entry,
                              const std::vector<Binding>& bindings, const void* push, std::uint32_t push_bytes,
                              std::uint32_t count, std::uint32_t local_size) {
+    // One dimension of work-groups: at least 65535 on every device (4M items of 64).
+    VkPhysicalDeviceProperties properties;
+    vkGetPhysicalDeviceProperties(physical_, &properties);
+    const std::uint64_t groups = (std::uint64_t(count) + local_size - 1) / local_size;
+    if (groups > properties.limits.maxComputeWorkGroupCount[0])
+        throw VulkanError(std::to_string(count) + " items exceed the device's " +
+                          std::to_string(properties.limits.maxComputeWorkGroupCount[0]) + " work-groups of " +
+                          std::to_string(local_size));
+
     // Descriptor set layout, pool and set from the bindings.
     std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
     std::vector<VkDescriptorPoolSize> pool_sizes;

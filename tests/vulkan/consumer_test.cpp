@@ -13,6 +13,8 @@
 // is a failure instead.
 #include "io/exr_io.hpp"
 #include "io/ktx2.hpp"
+#include "io/sat_exr.hpp"
+#include "kernels/msm_scatter.clh"
 #include "kernels/msm_shading.clh"
 
 #include <msmcl/shading.hpp>
@@ -435,6 +437,58 @@ TEST_P(VulkanScatter, SixMomentScatteringAgreesWithMsmclScatter) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, VulkanScatter, testing::Values("hall", "pergola"), text_name);
+
+// ---- The KTX2 outputs the consumer reads hold exactly what msmcl's EXR outputs hold (no
+// Vulkan device needed).
+TEST(MsmclKtx2Outputs, SatTableIsTheTableOfTheExrFile) {
+    const Scratch scratch;
+    const std::string depth = std::string(MSMCL_SOURCE_DIR) + "/data/railing_256x256_4x.exr";
+    const std::string exr = scratch / "sat.exr", ktx2 = scratch / "sat.ktx2";
+    run_ok(cli() + " sat " + quoted(depth) + " " + quoted(exr) + " --max-kernel 1000");
+    run_ok(cli() + " sat " + quoted(depth) + " " + quoted(ktx2) + " --max-kernel 1000");
+    if (HasFatalFailure()) return;
+    const msmcl::io::SatFile table = msmcl::io::read_sat_exr(exr);
+    const msmcl::io::GpuImage image = msmcl::io::read_ktx2(ktx2);
+    EXPECT_EQ(image.format, msmcl::io::GpuFormat::r32g32b32a32_uint);
+    EXPECT_EQ(image.width, table.table.width);
+    EXPECT_EQ(image.height, table.table.height);
+    EXPECT_EQ(image.find_metadata("msmcl:format"), std::optional<std::string>("sat"));
+    EXPECT_EQ(image.find_metadata("msmcl:maxKernelTexels"), std::optional<std::string>("1000"));
+    EXPECT_EQ(image.find_metadata("msmcl:scale"), std::optional<std::string>(std::to_string(table.table.scale)));
+    EXPECT_EQ(image.find_metadata("msmcl:depthRange"), std::optional<std::string>("0,1"));
+    ASSERT_EQ(image.bytes.size(), table.table.words.size() * 4);
+    EXPECT_EQ(std::memcmp(image.bytes.data(), table.table.words.data(), image.bytes.size()), 0);
+}
+
+TEST(MsmclKtx2Outputs, ScatterMapDecodesToTheStoredPrefixSums) {
+    const Scratch scratch;
+    const std::string scene = scratch / "scene.json", shadow_map = scratch / "shadow.exr",
+                      camera = scratch / "camera.exr", map = scratch / "map.ktx2", sums = scratch / "sums.exr";
+    run_ok(quoted(MSMCL_SCATTER_SCENE_PATH) + " " + quoted(std::string(MSMCL_SOURCE_DIR) + "/data/scatter/hall.json") +
+           " --map-size 128 --camera-width 32 --camera-height 24 --rectified-size 64 --write-scene " + quoted(scene) +
+           " --shadow-map " + quoted(shadow_map) + " --camera-depth " + quoted(camera));
+    run_ok(cli() + " scatter " + quoted(scene) + " " + quoted(shadow_map) + " " + quoted(camera) + " " +
+           quoted(scratch / "out.exr") + " --moments 6 --map " + quoted(map) + " --prefix-sums " + quoted(sums));
+    if (HasFatalFailure()) return;
+    const msmcl::io::GpuImage image = msmcl::io::read_ktx2(map);
+    const msmcl::io::ExrImage decoded = msmcl::io::read_exr(sums);
+    ASSERT_EQ(image.format, msmcl::io::GpuFormat::a2b10g10r10_unorm_pack32);
+    ASSERT_TRUE(image.array);
+    ASSERT_EQ(image.layers, 2);
+    ASSERT_EQ(image.width, decoded.width);
+    ASSERT_EQ(image.height, decoded.height);
+    // Layer 0 the odd powers, layer 1 the even ones: decoding a texel's two words gives the
+    // prefix sums msmcl wrote as floats.
+    const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
+    std::vector<std::uint32_t> words(2 * texels);
+    std::memcpy(words.data(), image.bytes.data(), image.bytes.size());
+    for (std::size_t t = 0; t < texels; ++t) {
+        const msm_moments6 m = msm_decode_moments6(msm_word_pair{words[t], words[texels + t]});
+        const float expected[6] = {m.b1, m.b2, m.b3, m.b4, m.b5, m.b6};
+        for (int k = 0; k < 6; ++k)
+            ASSERT_EQ(decoded.find_channel("b" + std::to_string(k + 1))->values[t], expected[k]) << "texel " << t;
+    }
+}
 
 // ---- Bad input: one line naming the file, exit 2, no output.
 TEST(VulkanConsumer, RejectsATextureOfTheWrongKindWithExitCode2) {
