@@ -99,13 +99,16 @@ void write_file_atomically(const std::string& path, const void* data, std::size_
     temporary.mark_renamed();
 }
 
-std::string read_whole_file(const std::string& path) {
+std::string read_whole_file(const std::string& path, std::uint64_t max_bytes) {
     struct stat status {};
     if (::stat(path.c_str(), &status) != 0) {
         const int error_number = errno;
         throw input_error(path + ": cannot open: " + system_message(error_number));
     }
     if (S_ISDIR(status.st_mode)) throw input_error(path + ": cannot open: is a directory");
+    if (S_ISREG(status.st_mode) && static_cast<std::uint64_t>(status.st_size) > max_bytes)
+        throw input_error(path + ": the file's " + std::to_string(status.st_size) + " bytes exceed the limit of " +
+                          std::to_string(max_bytes) + " bytes (MSMCL_MAX_BYTES)");
 
     std::FILE* file = std::fopen(path.c_str(), "rb");
     if (!file) {
@@ -115,7 +118,15 @@ std::string read_whole_file(const std::string& path) {
     std::string content;
     char buffer[1 << 16];
     std::size_t count = 0;
-    while ((count = std::fread(buffer, 1, sizeof buffer, file)) > 0) content.append(buffer, count);
+    while ((count = std::fread(buffer, 1, sizeof buffer, file)) > 0) {
+        // A pipe or device has no size up front: stop at the limit while reading.
+        if (content.size() + count > max_bytes) {
+            std::fclose(file);
+            throw input_error(path + ": the file exceeds the limit of " + std::to_string(max_bytes) +
+                              " bytes (MSMCL_MAX_BYTES)");
+        }
+        content.append(buffer, count);
+    }
     const bool failed = std::ferror(file) != 0;
     std::fclose(file);
     if (failed) throw input_error(path + ": cannot read: I/O error");
