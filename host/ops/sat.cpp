@@ -280,6 +280,8 @@ cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue
                         const cl::Buffer& source, const SatSource& what, int width, int height,
                         const cl::Buffer& table, SatKernel kernel) {
     validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " table");
+    // Scratch held by this call is released even when an enqueue throws.
+    const detail::ContextImpl::ScratchSession scratch_session(impl);
     switch (kernel) {
     case SatKernel::row_per_thread:
         return enqueue_rows_per_thread(impl, queue, waits, source, what, width, height, table);
