@@ -90,9 +90,10 @@ namespace detail { struct ContextImpl; }
 /// is destroyed); a scratch buffer is handed to one call at a time, ordered by events.
 /// Calls on the Context's own queue are enqueued in whatever order the threads reach it;
 /// a thread that needs its work ordered against another thread's passes events
-/// (Enqueue::wait_for / done) or its own queue. Not thread-safe: moving, assigning or
-/// destroying a Context while another thread uses it, and set_binary_cache_dir /
-/// set_extra_build_options during calls (they apply to programs built afterwards).
+/// (Enqueue::wait_for / done) or its own queue. set_binary_cache_dir and
+/// set_extra_build_options may be called at any time and apply to programs built
+/// afterwards. Not thread-safe: moving, assigning or destroying a Context while another
+/// thread uses it.
 class Context {
 public:
     /// Picks a device as DeviceSelection describes and creates context and queue.
@@ -115,7 +116,9 @@ public:
 
     /// Optional on-disk cache of program binaries (keyed by device, driver version,
     /// options and source hash). Empty path disables it (the default unless
-    /// MSMCL_CACHE_DIR is set).
+    /// MSMCL_CACHE_DIR is set). The directory is created when missing; one that cannot
+    /// be created or written into throws input_error (so does an unusable
+    /// MSMCL_CACHE_DIR, from the constructor). A damaged cache file is rebuilt.
     void set_binary_cache_dir(const std::string& directory);
 
     /// Extra OpenCL build options appended for every program (e.g. "-cl-fast-relaxed-math").
