@@ -69,7 +69,7 @@ void validate_depth_values(const DepthImage& depth, DepthRange range) {
 // Buffers of a call against the device's largest allocation.
 void validate_device_bytes(const DeviceInfo& device, unsigned long long bytes, const std::string& what) {
     if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes)
-        throw input_error("sat: " + what + " needs " + std::to_string(bytes) + " bytes, more than the device's " +
+        throw device_error("sat: " + what + " needs " + std::to_string(bytes) + " bytes, more than the device's " +
                           "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
 }
 
