@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   glslang-tools
   mesa-vulkan-drivers libvulkan-dev spirv-tools
+  strace
   assimp-testmodels
 )
 

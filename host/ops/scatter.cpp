@@ -336,7 +336,7 @@ void check_map_fits(const detail::ContextImpl& impl, const ScatterScene& scene, 
     const unsigned long long bytes =
         static_cast<unsigned long long>(scene.rectified_width) * scene.rectified_height * bytes_per_texel;
     if (bytes > impl.info.max_alloc_bytes)
-        throw input_error("scatter: a " + std::to_string(scene.rectified_width) + "x" +
+        throw device_error("scatter: a " + std::to_string(scene.rectified_width) + "x" +
                           std::to_string(scene.rectified_height) + " rectified map exceeds the device's largest buffer");
 }
 
