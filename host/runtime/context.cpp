@@ -13,17 +13,8 @@ namespace detail {
 cl::Kernel& ContextImpl::kernel(const std::string& source_file, const std::vector<std::string>& defines,
                                 const std::string& kernel_name) {
     // Device specifics and variants become #define lines in front of the embedded source.
-    std::string source;
-    for (const std::string& define : defines) {
-        const std::size_t equals = define.find('=');
-        source += "#define " +
-                  (equals == std::string::npos ? define
-                                               : define.substr(0, equals) + ' ' + define.substr(equals + 1)) +
-                  '\n';
-    }
-    source += "#line 1\n";
-    source += assemble_kernel_source(source_file);
-    std::string options = "-cl-std=CL1.2";
+    const std::string source = assemble_variant_source(source_file, defines);
+    std::string options = base_build_options;
     if (const std::string quirk = device_build_options(info); !quirk.empty()) options += ' ' + quirk;
     if (!extra_build_options.empty()) options += ' ' + extra_build_options;
     return programs.kernel(context, device, source_file, source, options, kernel_name);

@@ -65,4 +65,18 @@ std::string assemble_kernel_source(std::string_view name) {
     return source;
 }
 
+std::string assemble_variant_source(std::string_view name, const std::vector<std::string>& defines) {
+    std::string source;
+    for (const std::string& define : defines) {
+        const std::size_t equals = define.find('=');
+        source += "#define " +
+                  (equals == std::string::npos ? define
+                                               : define.substr(0, equals) + ' ' + define.substr(equals + 1)) +
+                  '\n';
+    }
+    source += "#line 1\n";
+    source += assemble_kernel_source(name);
+    return source;
+}
+
 } // namespace msmcl::detail
