@@ -260,7 +260,7 @@ TEST_F(MathDf, MomentsAboutTheMeanMatchReference) {
     EXPECT_LE(worst, 1e-13);
 }
 
-// The bias applied about c equals the SPEC bias applied first (double) and then shifted. The
+// The bias applied about c equals the bias of docs/math.md applied first (double) and then shifted. The
 // correction alpha (t - m) is float32: t up to 5.4 (c = +-1) carries ~2 ulps (1e-6), times
 // alpha: 3e-13 for moments128, 6e-11 for msm64; against biased central moments >= ~alpha/10.
 TEST_F(MathDf, BiasAboutTheMeanMatchesReference) {

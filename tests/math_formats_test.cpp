@@ -1,4 +1,4 @@
-// Texel formats of SPEC section 3 (kernels/msm_formats.clh, float32) against hand-computed
+// Texel formats of docs/formats.md (kernels/msm_formats.clh, float32) against hand-computed
 // words and the independent double-precision encoders of tests/reference/moment_math.*.
 #include <msmcl/device_math.hpp>
 
@@ -142,7 +142,7 @@ TEST_F(MathFormats, Nlq32FoldBoundaryAndClamps) {
     EXPECT_EQ(fields_of(msm_encode_nlq32(texel(0.0f, 0.0f, -0.5f, 0.0f))).sqrt_v2, 0u);
 }
 
-// Both branches round trip: for every pair yt1 <= yt2 the fields are the fold of SPEC and
+// Both branches round trip: for every pair yt1 <= yt2 the fields are the fold of docs/formats.md and
 // the decoded depths are the centres of yt1, yt2 again.
 TEST_F(MathFormats, Nlq32FoldIsABijectionOnTheTriangle) {
     for (unsigned yt1 = 0; yt1 <= 1022; ++yt1) {
@@ -189,7 +189,7 @@ TEST_F(MathFormats, Msm64WordExamples) {
     EXPECT_EQ(codes_of(one), ref::encode_msm64(ref::moments_of(1.0)));
 }
 
-// ---- The affine pair of SPEC section 3.
+// ---- The affine pair of docs/math.md.
 
 // In double the two maps are exact inverses: the linear parts multiply to the identity.
 TEST_F(MathFormats, Msm64AffinePairInvertsExactly) {

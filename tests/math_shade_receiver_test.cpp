@@ -1,5 +1,5 @@
-// msmcl::shade_texel / shade_receiver (host/shading/shading.cpp): the lookup of SPEC
-// section 8 (nearest, bilinear, clamp to the edge, depth convention and bias) on small
+// msmcl::shade_texel / shade_receiver (host/shading/shading.cpp): the lookup of
+// docs/math.md (nearest, bilinear, clamp to the edge, depth convention and bias) on small
 // hand-built textures, and per-texel shading against the double reference.
 #include <msmcl/device_math.hpp>
 

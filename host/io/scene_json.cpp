@@ -18,7 +18,16 @@ namespace {
 
 using nlohmann::json;
 
+/// Deepest nesting of arrays and objects a scene file may have (the format needs 3).
+constexpr int max_json_depth = 64;
+/// Largest scene file read (a scene is a few hundred bytes).
+constexpr std::streamoff max_scene_bytes = 16 << 20;
+
+/// A value for an error message: scalars as written, containers by kind and size only
+/// (printing a container would recurse through all of it).
 std::string describe(const json& value) {
+    if (value.is_object()) return "an object of " + std::to_string(value.size()) + " keys";
+    if (value.is_array()) return "an array of " + std::to_string(value.size()) + " elements";
     std::string text = value.dump();
     if (text.size() > 60) text = text.substr(0, 57) + "...";
     return text;
@@ -175,8 +184,15 @@ std::string parse_error_text(const std::string& what) {
 ScatterScene parse_scatter_scene(const std::string& json_text) {
     json document;
     try {
-        document = json::parse(json_text);
-    } catch (const json::parse_error& e) {
+        // Refuse deep nesting while parsing, before it costs memory or recursion later.
+        const json::parser_callback_t limit_depth = [](int depth, json::parse_event_t event, json&) {
+            if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+                depth >= max_json_depth)
+                throw input_error("malformed JSON: nested deeper than " + std::to_string(max_json_depth) + " levels");
+            return true;
+        };
+        document = json::parse(json_text, limit_depth);
+    } catch (const json::exception& e) { // syntax errors, and numbers out of range (1e400)
         throw input_error("malformed JSON: " + parse_error_text(e.what()));
     }
     if (!document.is_object()) throw input_error("scene: expected a JSON object at the top level");
@@ -203,6 +219,12 @@ ScatterScene parse_scatter_scene(const std::string& json_text) {
 ScatterScene load_scatter_scene(const std::string& path) {
     std::ifstream file(path, std::ios::binary);
     if (!file) throw input_error(path + ": cannot open the scene file");
+    // A scene is a few hundred bytes; refuse anything absurdly large before reading it.
+    file.seekg(0, std::ios::end);
+    const std::streamoff size = file.tellg();
+    if (size > max_scene_bytes)
+        throw input_error(path + ": the scene file is larger than " + std::to_string(max_scene_bytes) + " bytes");
+    file.seekg(0);
     std::ostringstream text;
     text << file.rdbuf();
     if (file.bad()) throw input_error(path + ": cannot read the scene file");
@@ -210,6 +232,8 @@ ScatterScene load_scatter_scene(const std::string& path) {
         return parse_scatter_scene(text.str());
     } catch (const input_error& e) {
         throw input_error(path + ": " + e.what());
+    } catch (const json::exception& e) { // any JSON error the parsing above did not translate
+        throw input_error(path + ": " + parse_error_text(e.what()));
     }
 }
 

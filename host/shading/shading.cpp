@@ -1,6 +1,6 @@
 // include/msmcl/device_math.hpp: the consumer-side math of kernels/msm_shading.clh compiled as
 // C++ (float32, the very code the kernels run), and the host definition of the `shade`
-// lookup of SPEC section 8.
+// lookup of docs/math.md, Lookups.
 #include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"

@@ -27,7 +27,7 @@ Texture filter(Context& context, const DepthImage& depth, const FilterOptions& o
 void filter(Context& context, const DeviceDepth& depth, cl_mem texture,
             const FilterOptions& options, const Enqueue& enqueue = {});
 
-// ---- Translucent occluders (SPEC section 7, seed 001 section 4).
+// ---- Translucent occluders (docs/math.md, Peters et al., i3D 2016, section 4).
 
 /// Filters a depth map with translucent layers (at most max_translucent_layers). Validates
 /// like filter() and also every layer's size, depths and opacities (input_error names the

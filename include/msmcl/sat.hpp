@@ -1,9 +1,9 @@
-// sat: integer modular summed-area tables of moments (SPEC section 5) and moment soft
-// shadow mapping for a directional light (seed 001 section 3).
+// sat: integer modular summed-area tables of moments (docs/math.md) and moment soft
+// shadow mapping for a directional light (Peters et al., i3D 2016, section 3).
 //
 // A table holds, per texel (x, y), four uint32 channels: the prefix sums over all texels
 // i <= x, j <= y of round(c * scale), where c are the channels R, G, B, A of the msm64
-// affine basis (SPEC section 3) of the texel's resolved moments (mean of b(z) over its
+// affine basis (docs/math.md) of the texel's resolved moments (mean of b(z) over its
 // MSAA samples, no blur) and scale = floor((2^32 - 1) / N) for the largest kernel of N
 // texels the caller will query. The sums wrap mod 2^32; any rectangle of at most N texels
 // comes out exact. Precision: log2(scale) bits per channel (N = 27^2: 22.5 bits).
@@ -46,7 +46,7 @@ SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& 
 void build_sat(Context& context, const DeviceDepth& depth, cl_mem table, const SatOptions& options,
                const Enqueue& enqueue = {});
 
-/// Tables of translucent shadow maps (SPEC section 7): each sample's surfaces composited as
+/// Tables of translucent shadow maps (docs/math.md): each sample's surfaces composited as
 /// filter() composites them (TranslucentLayer), the texel the mean of the composited
 /// moments over its samples. Validates the layers like filter(). No layers: exactly
 /// build_sat(context, depth, options); layers of opacity 0 give the same bits as none.
