@@ -237,7 +237,7 @@ cpu_translucent_sample(__global const float* samples, __global const float* laye
 
 // Phase "resolve" of input row r: work-item x averages the moments of (z - shift) of the
 // S samples of input texel (x0 - 4 + x, clamped row) into buffer r % 2 of `resolved`, in
-// the order of the other kernels' resolve_texel (sum from sample 0 up, times 1/S).
+// the order of msm_resolve_texel (msm_moments.clh) (sum from sample 0 up, times 1/S).
 static inline void resolve_row(__global const float* depth, int width, int height, __global uint* texture,
                                int border, int ix0, int ix1, int zero, int r, __local const float* shift_of,
                                __local float* resolved CPU_LAYER_PARAMS) {

@@ -29,32 +29,6 @@
 #define FILTER_SHIFTED 0
 #endif
 
-// Moments of (z - shift) averaged over the samples of texel `texel`.
-static inline msm_moments resolve_texel(__global const float* depth, size_t texel, float shift) {
-    __global const float* samples = depth + texel * MSM_SAMPLES;
-    msm_moments sum = msm_moments_of(msm_internal_depth(samples[0], MSM_DEPTH_ZERO_ONE) - shift);
-    for (int s = 1; s < MSM_SAMPLES; ++s)
-        sum = msm_moments_add(sum, msm_moments_of(msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE) - shift));
-    return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
-}
-
-#if MSM_LAYERS
-// The same with the texel's translucent layers: layer k of texel t, sample s at
-// [(k * width * height + t) * MSM_SAMPLES + s].
-static inline msm_moments resolve_translucent_texel(__global const float* depth, __global const float* layer_depth,
-                                                    __global const float* layer_opacity, size_t layer_stride,
-                                                    size_t texel, float shift) {
-    __global const float* first = depth + texel * MSM_SAMPLES;
-    __global const float* first_z = layer_depth + texel * MSM_SAMPLES;
-    __global const float* first_a = layer_opacity + texel * MSM_SAMPLES;
-    msm_moments sum = msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, 0, MSM_DEPTH_ZERO_ONE, shift);
-    for (int s = 1; s < MSM_SAMPLES; ++s)
-        sum = msm_moments_add(sum, msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, s,
-                                                          MSM_DEPTH_ZERO_ONE, shift));
-    return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
-}
-#endif
-
 // 9-tap sum of v[0..8] with weights w4 w3 w2 w1 w0 w1 w2 w3 w4, in order i = -4..4.
 #define FILTER_TAPS9(v, k)                                                                    \
     fma(w4, v[(k) + 8], fma(w3, v[(k) + 7], fma(w2, v[(k) + 6], fma(w1, v[(k) + 5],           \
@@ -131,10 +105,12 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
         const int gx = clamp(out_x0 - FUSED_GUARD + (int)x, 0, width - 1);
         const int gy = clamp(out_y0 - FUSED_GUARD + (int)y, 0, height - 1);
 #if MSM_LAYERS
-        const msm_moments m = resolve_translucent_texel(depth, layer_depth, layer_opacity,
-                                                        (size_t)width * height * MSM_SAMPLES, (size_t)gy * width + gx, shift);
+        const msm_moments m = msm_resolve_translucent_texel(depth, layer_depth, layer_opacity,
+                                                            (size_t)width * height * MSM_SAMPLES, (size_t)gy * width + gx,
+                                                            MSM_SAMPLES, MSM_LAYERS, MSM_DEPTH_ZERO_ONE, shift);
 #else
-        const msm_moments m = resolve_texel(depth, (size_t)gy * width + gx, shift);
+        const msm_moments m = msm_resolve_texel(depth + ((size_t)gy * width + gx) * MSM_SAMPLES, MSM_SAMPLES,
+                                                MSM_DEPTH_ZERO_ONE, shift);
 #endif
         block[fused_local_index(1, x, y)] = m.b1;
         block[fused_local_index(2, x, y)] = m.b2;
@@ -186,17 +162,6 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
         m.b2 = block[fused_local_index(2, sx, sy)];
         m.b3 = block[fused_local_index(3, sx, sy)];
         m.b4 = block[fused_local_index(4, sx, sy)];
-        const size_t texel = (size_t)gy * width + gx;
-#if MSM_FORMAT == 0
-        vstore4((uint4)(as_uint(m.b1), as_uint(m.b2), as_uint(m.b3), as_uint(m.b4)), texel, texture);
-#elif MSM_FORMAT == 1
-        const msm_word2 code = msm_encode_msm64(m);
-        vstore2((uint2)(code.w0, code.w1), texel, texture);
-#elif MSM_FORMAT == 2
-        const msm_word2 code = msm_encode_nlq64(msm_nlq_from_shifted_moments(m, shift));
-        vstore2((uint2)(code.w0, code.w1), texel, texture);
-#else
-        texture[texel] = msm_encode_nlq32(msm_nlq_from_shifted_moments(m, shift));
-#endif
+        msm_store_texel(texture, (size_t)gy * width + gx, m, shift);
     }
 }

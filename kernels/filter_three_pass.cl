@@ -12,15 +12,6 @@
 #define MSM_LAYERS 0
 #endif
 
-// Moments of z averaged over the samples of texel `texel` (as in filter_fused_gpu.cl, c = 0).
-static inline msm_moments resolve_texel(__global const float* depth, size_t texel) {
-    __global const float* samples = depth + texel * MSM_SAMPLES;
-    msm_moments sum = msm_moments_of(msm_internal_depth(samples[0], MSM_DEPTH_ZERO_ONE) - 0.0f);
-    for (int s = 1; s < MSM_SAMPLES; ++s)
-        sum = msm_moments_add(sum, msm_moments_of(msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE) - 0.0f));
-    return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
-}
-
 // 9-tap sum over the texels at offsets i = -4..4 of one moment (weights w4 .. w0 .. w4).
 #define FILTER_TAPS9(v)                                                                       \
     fma(w4, v(4), fma(w3, v(3), fma(w2, v(2), fma(w1, v(1),                                   \
@@ -39,24 +30,7 @@ static inline void store_moments(__global float* moments, size_t texel, msm_mome
     vstore4((float4)(m.b1, m.b2, m.b3, m.b4), texel, moments);
 }
 
-#if MSM_LAYERS
-// The same with the texel's translucent layers: layer k of texel t, sample s at
-// [(k * width * height + t) * MSM_SAMPLES + s].
-static inline msm_moments resolve_translucent_texel(__global const float* depth, __global const float* layer_depth,
-                                                    __global const float* layer_opacity, size_t layer_stride,
-                                                    size_t texel) {
-    __global const float* first = depth + texel * MSM_SAMPLES;
-    __global const float* first_z = layer_depth + texel * MSM_SAMPLES;
-    __global const float* first_a = layer_opacity + texel * MSM_SAMPLES;
-    msm_moments sum = msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, 0, MSM_DEPTH_ZERO_ONE, 0.0f);
-    for (int s = 1; s < MSM_SAMPLES; ++s)
-        sum = msm_moments_add(sum, msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, s,
-                                                          MSM_DEPTH_ZERO_ONE, 0.0f));
-    return msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
-}
-#endif
-
-// (a) One texel per work-item: resolve its samples.
+// (a) One texel per work-item: resolve its samples (unshifted, c = 0).
 __kernel void filter_resolve(__global const float* depth, int width, int height, __global float* moments
 #if MSM_LAYERS
                              , __global const float* layer_depth, __global const float* layer_opacity
@@ -68,9 +42,10 @@ __kernel void filter_resolve(__global const float* depth, int width, int height,
     const size_t texel = (size_t)y * width + x;
 #if MSM_LAYERS
     const size_t layer_stride = (size_t)width * height * MSM_SAMPLES;
-    store_moments(moments, texel, resolve_translucent_texel(depth, layer_depth, layer_opacity, layer_stride, texel));
+    store_moments(moments, texel, msm_resolve_translucent_texel(depth, layer_depth, layer_opacity, layer_stride, texel,
+                                                                MSM_SAMPLES, MSM_LAYERS, MSM_DEPTH_ZERO_ONE, 0.0f));
 #else
-    store_moments(moments, texel, resolve_texel(depth, texel));
+    store_moments(moments, texel, msm_resolve_texel(depth + texel * MSM_SAMPLES, MSM_SAMPLES, MSM_DEPTH_ZERO_ONE, 0.0f));
 #endif
 }
 
@@ -109,16 +84,5 @@ __kernel void filter_vertical_quantize(__global const float* moments, int width,
     m.b2 = FILTER_TAPS9(TAP_B2);
     m.b3 = FILTER_TAPS9(TAP_B3);
     m.b4 = FILTER_TAPS9(TAP_B4);
-    const size_t texel = (size_t)y * width + x;
-#if MSM_FORMAT == 0
-    vstore4((uint4)(as_uint(m.b1), as_uint(m.b2), as_uint(m.b3), as_uint(m.b4)), texel, texture);
-#elif MSM_FORMAT == 1
-    const msm_word2 code = msm_encode_msm64(m);
-    vstore2((uint2)(code.w0, code.w1), texel, texture);
-#elif MSM_FORMAT == 2
-    const msm_word2 code = msm_encode_nlq64(msm_nlq_from_shifted_moments(m, 0.0f));
-    vstore2((uint2)(code.w0, code.w1), texel, texture);
-#else
-    texture[texel] = msm_encode_nlq32(msm_nlq_from_shifted_moments(m, 0.0f));
-#endif
+    msm_store_texel(texture, (size_t)y * width + x, m, 0.0f);
 }

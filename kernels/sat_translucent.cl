@@ -19,13 +19,8 @@ __kernel void sat_translucent_texels(__global const float* depth, __global const
 
     // Mean over the samples of the composited moments (summed from sample 0 up, times 1/S, as
     // msm_sat_texel_of_depth averages b(z)).
-    __global const float* first = depth + texel * MSM_SAMPLES;
-    __global const float* first_z = layer_depth + texel * MSM_SAMPLES;
-    __global const float* first_a = layer_opacity + texel * MSM_SAMPLES;
-    msm_moments sum = msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, 0, MSM_DEPTH_ZERO_ONE, 0.0f);
-    for (int s = 1; s < MSM_SAMPLES; ++s)
-        sum = msm_moments_add(sum, msm_translucent_sample(first, first_z, first_a, layer_stride, MSM_LAYERS, s,
-                                                          MSM_DEPTH_ZERO_ONE, 0.0f));
-    const msm_sat_sum t = msm_sat_texel_of_moments(msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES), scale);
+    const msm_moments mean = msm_resolve_translucent_texel(depth, layer_depth, layer_opacity, layer_stride, texel,
+                                                           MSM_SAMPLES, MSM_LAYERS, MSM_DEPTH_ZERO_ONE, 0.0f);
+    const msm_sat_sum t = msm_sat_texel_of_moments(mean, scale);
     vstore4((uint4)(t.c0, t.c1, t.c2, t.c3), texel, texels);
 }

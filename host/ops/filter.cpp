@@ -1,6 +1,7 @@
 // filter: depth map -> resolved, blurred, quantized moment shadow map (docs/math.md).
 #include "ops/kernel_variants.hpp"
 #include "ops/translucent_layers.hpp"
+#include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 #include "runtime/tuning.hpp"
 
@@ -20,8 +21,6 @@ namespace msmcl {
 
 namespace {
 
-// Largest width or height accepted (OpenCL image limits are far below this anyway).
-constexpr int kMaxDimension = 65536;
 // The fused kernel's work-group, tile and local memory (kernels/fused_layout.clh).
 constexpr std::size_t kFusedGroupSize = 256;
 constexpr int kFusedTileWidth = 32;
@@ -68,21 +67,12 @@ std::string describe_size(int width, int height, int samples) {
 
 // Width, height and sample count the filter can work with.
 void validate_shape(int width, int height, int samples) {
-    if (width <= 0 || height <= 0) {
-        throw input_error("filter: depth map size " + std::to_string(width) + "x" + std::to_string(height) +
-                          " is empty or negative");
-    }
-    if (width > kMaxDimension || height > kMaxDimension) {
-        throw input_error("filter: depth map size " + std::to_string(width) + "x" + std::to_string(height) +
-                          " exceeds the limit of " + std::to_string(kMaxDimension) + " texels per side");
-    }
+    detail::validate_map_size("filter: depth map size", width, height);
     if (!is_supported_sample_count(samples)) {
         throw input_error("filter: unsupported sample count " + std::to_string(samples) +
                           " (supported: 1, 2, 4, 8, 16)");
     }
 }
-
-std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }
 
 // Translucent layers of a call on the device: none (count 0), or the two buffers holding
 // count layers each (include/msmcl/filter.hpp, DeviceLayers).
@@ -95,7 +85,7 @@ struct LayerBuffers {
 // Buffers the call allocates or reads, against the device's largest allocation.
 void validate_device_sizes(const DeviceInfo& device, int width, int height, int samples, Format format,
                            FilterKernel kernel, int layers = 0) {
-    const unsigned long long texels = texel_count(width, height);
+    const unsigned long long texels = detail::texel_count(width, height);
     const auto check = [&](unsigned long long bytes, const char* what) {
         if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes) {
             throw device_error(std::string("filter: ") + what + " for a " + describe_size(width, height, samples) +
@@ -107,23 +97,6 @@ void validate_device_sizes(const DeviceInfo& device, int width, int height, int 
     check(layers * texels * samples * sizeof(float), "the translucent layers");
     check(texels * texel_bytes(format), "the texture");
     if (kernel == FilterKernel::three_pass) check(texels * 4 * sizeof(float), "the three-pass moment buffer");
-}
-
-// The first NaN, Inf or out-of-range depth value, named by texel and sample.
-void validate_depth_values(const DepthImage& depth, DepthRange range) {
-    const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
-    for (int y = 0; y < depth.height; ++y) {
-        for (int x = 0; x < depth.width; ++x) {
-            for (int s = 0; s < depth.samples; ++s) {
-                const float d = depth.at(x, y, s);
-                if (std::isfinite(d) && d >= lowest && d <= 1.0f) continue;
-                std::ostringstream text;
-                text << "filter: depth at texel (" << x << ", " << y << ") sample " << s << " is " << d;
-                if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
-                throw input_error(text.str());
-            }
-        }
-    }
 }
 
 bool device_runs_fused(const DeviceInfo& device) {
@@ -171,12 +144,6 @@ std::vector<std::string> kernel_defines(int samples, const FilterOptions& option
 // Sets the 5 distinct taps w0 (centre) .. w4 as float arguments starting at `first`.
 void set_tap_arguments(cl::Kernel& kernel, cl_uint first, const std::array<float, 9>& taps) {
     for (cl_uint i = 0; i < 5; ++i) detail::check(kernel.setArg(first + i, taps[4 + i]), "clSetKernelArg");
-}
-
-cl_ulong buffer_size(cl_mem buffer) {
-    std::size_t bytes = 0;
-    detail::check(clGetMemObjectInfo(buffer, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr), "clGetMemObjectInfo");
-    return bytes;
 }
 
 // The CPU distribution (kernels/filter_fused_cpu.cl): interior tile columns (guard band
@@ -286,7 +253,7 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
 
     // Three passes through two float4 moment buffers.
     cl_int status = CL_SUCCESS;
-    const std::size_t moment_bytes = texel_count(width, height) * 4 * sizeof(float);
+    const std::size_t moment_bytes = detail::texel_count(width, height) * 4 * sizeof(float);
     cl::Buffer resolved(impl.context, CL_MEM_READ_WRITE, moment_bytes, nullptr, &status);
     detail::check(status, "clCreateBuffer(three-pass moments)");
     cl::Buffer rows(impl.context, CL_MEM_READ_WRITE, moment_bytes, nullptr, &status);
@@ -396,13 +363,13 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                const FilterOptions& options) {
     // Validate everything before touching the device.
     validate_shape(depth.width, depth.height, depth.samples);
-    const std::size_t values = texel_count(depth.width, depth.height) * depth.samples;
+    const std::size_t values = detail::texel_count(depth.width, depth.height) * depth.samples;
     if (depth.depth.size() != values) {
         throw input_error("filter: depth map " + describe_size(depth.width, depth.height, depth.samples) +
                           " needs " + std::to_string(values) + " values, got " + std::to_string(depth.depth.size()));
     }
     gaussian_taps(options.sigma); // throws input_error for a bad sigma
-    validate_depth_values(depth, options.depth_range);
+    detail::validate_depth_values("filter", depth, options.depth_range);
     detail::validate_layers("filter", depth, layers, options.depth_range);
     detail::ContextImpl& impl = context.impl();
     validate_device_sizes(impl.info, depth.width, depth.height, depth.samples, options.format,
@@ -413,7 +380,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
     texture.format = options.format;
     texture.width = depth.width;
     texture.height = depth.height;
-    texture.words.resize(texel_count(depth.width, depth.height) * texel_words(options.format));
+    texture.words.resize(detail::texel_count(depth.width, depth.height) * texel_words(options.format));
     cl_int status = CL_SUCCESS;
     cl::Buffer depth_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, values * sizeof(float),
                             const_cast<float*>(depth.depth.data()), &status);
@@ -455,16 +422,16 @@ void filter(Context& context, const DeviceDepth& depth, const DeviceLayers& laye
     gaussian_taps(options.sigma); // throws input_error for a bad sigma
     detail::validate_layer_count("filter", layers.count);
     // The caller's buffers must hold the whole depth map, the layers and the texture.
-    const cl_ulong depth_bytes = texel_count(depth.width, depth.height) * depth.samples * sizeof(float);
-    const cl_ulong texture_bytes = texel_count(depth.width, depth.height) * texel_bytes(options.format);
-    if (buffer_size(depth.buffer) < depth_bytes) {
-        throw input_error("filter: the depth buffer holds " + std::to_string(buffer_size(depth.buffer)) +
+    const cl_ulong depth_bytes = detail::texel_count(depth.width, depth.height) * depth.samples * sizeof(float);
+    const cl_ulong texture_bytes = detail::texel_count(depth.width, depth.height) * texel_bytes(options.format);
+    if (detail::buffer_size(depth.buffer) < depth_bytes) {
+        throw input_error("filter: the depth buffer holds " + std::to_string(detail::buffer_size(depth.buffer)) +
                           " bytes, a " + describe_size(depth.width, depth.height, depth.samples) + " map needs " +
                           std::to_string(depth_bytes));
     }
-    if (buffer_size(texture) < texture_bytes) {
-        throw input_error("filter: the texture buffer holds " + std::to_string(buffer_size(texture)) + " bytes, a " +
-                          std::to_string(depth.width) + "x" + std::to_string(depth.height) + " " +
+    if (detail::buffer_size(texture) < texture_bytes) {
+        throw input_error("filter: the texture buffer holds " + std::to_string(detail::buffer_size(texture)) +
+                          " bytes, a " + std::to_string(depth.width) + "x" + std::to_string(depth.height) + " " +
                           format_name(options.format) + " texture needs " + std::to_string(texture_bytes));
     }
     LayerBuffers layer_buffers;
@@ -473,10 +440,10 @@ void filter(Context& context, const DeviceDepth& depth, const DeviceLayers& laye
         for (const auto& [buffer, what] : {std::pair<cl_mem, const char*>{layers.depth, "depth"},
                                            std::pair<cl_mem, const char*>{layers.opacity, "opacity"}}) {
             if (!buffer) throw input_error(std::string("filter: the layer ") + what + " buffer is null");
-            if (buffer_size(buffer) < layer_bytes)
+            if (detail::buffer_size(buffer) < layer_bytes)
                 throw input_error(std::string("filter: the layer ") + what + " buffer holds " +
-                                  std::to_string(buffer_size(buffer)) + " bytes, " + std::to_string(layers.count) +
-                                  " layers of a " + describe_size(depth.width, depth.height, depth.samples) +
+                                  std::to_string(detail::buffer_size(buffer)) + " bytes, " +
+                                  std::to_string(layers.count) + " layers of a " + describe_size(depth.width, depth.height, depth.samples) +
                                   " map need " + std::to_string(layer_bytes));
         }
         layer_buffers = LayerBuffers{cl::Buffer(layers.depth, true), cl::Buffer(layers.opacity, true), layers.count};

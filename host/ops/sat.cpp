@@ -2,6 +2,7 @@
 // table queries on host (kernels/msm_sat.clh compiled as C++) and device (sat_query.cl).
 #include "ops/kernel_variants.hpp"
 #include "ops/translucent_layers.hpp"
+#include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 
 #include "kernels/msm_sat.clh"
@@ -19,9 +20,6 @@ namespace msmcl {
 
 namespace {
 
-// Largest width or height accepted (as filter).
-constexpr int kMaxDimension = 65536;
-
 // The GPU distribution of the tiled scan: kernels/sat_build.cl, 32x32 tiles in local
 // memory, 32 work-items per tile, kernels/sat_carries.cl in between.
 constexpr int kGpuTile = 32;
@@ -35,36 +33,16 @@ constexpr int kCpuBandHeight = 32;
 // kernels timed by profiling events: S = 2 8.5 against 10.5 ms; S = 1 7.9 against 7.0).
 constexpr int kCpuTexelPassSamples = 2;
 
-std::size_t texel_count(int width, int height) { return static_cast<std::size_t>(width) * height; }
-
-std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
+using detail::size_text;
+using detail::texel_count;
 
 void validate_table_shape(const char* call, int width, int height) {
-    if (width <= 0 || height <= 0)
-        throw input_error(std::string(call) + ": size " + size_text(width, height) + " is empty or negative");
-    if (width > kMaxDimension || height > kMaxDimension)
-        throw input_error(std::string(call) + ": size " + size_text(width, height) + " exceeds the limit of " +
-                          std::to_string(kMaxDimension) + " texels per side");
+    detail::validate_map_size(std::string(call) + ": size", width, height);
 }
 
 void validate_samples(int samples) {
     if (!is_supported_sample_count(samples))
         throw input_error("sat: unsupported sample count " + std::to_string(samples) + " (supported: 1, 2, 4, 8, 16)");
-}
-
-// The first NaN, Inf or out-of-range depth, named by texel and sample (as filter does).
-void validate_depth_values(const DepthImage& depth, DepthRange range) {
-    const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
-    for (std::size_t i = 0; i < depth.depth.size(); ++i) {
-        const float d = depth.depth[i];
-        if (std::isfinite(d) && d >= lowest && d <= 1.0f) continue;
-        const std::size_t texel = i / depth.samples;
-        std::ostringstream text;
-        text << "sat: depth at texel (" << texel % depth.width << ", " << texel / depth.width << ") sample "
-             << i % depth.samples << " is " << d;
-        if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
-        throw input_error(text.str());
-    }
 }
 
 // Buffers of a call against the device's largest allocation.
@@ -74,15 +52,9 @@ void validate_device_bytes(const DeviceInfo& device, unsigned long long bytes, c
                           "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
 }
 
-cl_ulong buffer_size(cl_mem buffer) {
-    std::size_t bytes = 0;
-    detail::check(clGetMemObjectInfo(buffer, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr), "clGetMemObjectInfo");
-    return bytes;
-}
-
 void require_buffer_bytes(cl_mem buffer, cl_ulong bytes, const std::string& what) {
     if (!buffer) throw input_error("sat: the " + what + " buffer is null");
-    const cl_ulong held = buffer_size(buffer);
+    const cl_ulong held = detail::buffer_size(buffer);
     if (held < bytes)
         throw input_error("sat: the " + what + " buffer holds " + std::to_string(held) + " bytes, " +
                           std::to_string(bytes) + " are needed");
@@ -390,7 +362,7 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
                           std::to_string(depth.samples) + " samples needs " + std::to_string(values) +
                           " values, got " + std::to_string(depth.depth.size()));
     const std::uint32_t scale = sat_scale(options.max_kernel_texels);
-    validate_depth_values(depth, options.depth_range);
+    detail::validate_depth_values("sat", depth, options.depth_range);
     detail::validate_layers("sat", depth, layers, options.depth_range);
     detail::ContextImpl& impl = context.impl();
     validate_device_bytes(impl.info, values * sizeof(float), "the depth buffer");

@@ -1,6 +1,7 @@
 // scatter: rectification bounds, the kernel parameter block, and the device operations of
 // prefiltered single scattering (kernels/scatter.cl).
 #include "ops/scatter_params.hpp"
+#include "ops/transfer.hpp"
 #include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
 
@@ -344,7 +345,8 @@ void run_prefilter(Context& context, const ScatterScene& scene, cl_mem source, b
                    const Enqueue& enqueue) {
     detail::ContextImpl& impl = context.impl();
     const RectificationBounds bounds = rectification_bounds(scene);
-    const msm_scatter_params params = detail::make_scatter_params(scene, bounds, map_width, map_height, map_samples, -1.0f);
+    const msm_scatter_params params =
+        detail::make_scatter_params(scene, bounds, map_width, map_height, map_samples, -1.0f);
     cl::Kernel& kernel = scatter_kernel(impl, moments, "scatter_prefilter");
     cl::CommandQueue queue = impl.queue_for(enqueue);
     std::vector<cl::Event> waits = detail::wait_list(enqueue);
@@ -432,29 +434,16 @@ void check_camera_depth(const ScatterScene& scene, const std::vector<float>& cam
                           std::to_string(pixels) + " camera depth pixels lie on the near plane");
 }
 
-cl::Buffer upload(detail::ContextImpl& impl, const void* data, std::size_t bytes, const char* what) {
-    cl_int status = CL_SUCCESS;
-    cl::Buffer buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data), &status);
-    detail::check(status, what);
-    return buffer;
-}
-
-cl::Buffer device_buffer(detail::ContextImpl& impl, std::size_t bytes, const char* what) {
-    cl_int status = CL_SUCCESS;
-    cl::Buffer buffer(impl.context, CL_MEM_READ_WRITE, std::max<std::size_t>(bytes, 4), nullptr, &status);
-    detail::check(status, what);
-    return buffer;
-}
-
 /// The source buffer of resampling: the filtered moments128 map, or the depth map itself.
 cl::Buffer resampling_source(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
                              const ScatterOptions& options) {
     detail::ContextImpl& impl = context.impl();
-    cl::Buffer depth = upload(impl, shadow_map.depth.data(), shadow_map.depth.size() * sizeof(float),
+    cl::Buffer depth = detail::upload(impl, shadow_map.depth.data(), shadow_map.depth.size() * sizeof(float),
                               "clCreateBuffer(shadow map)");
     if (!options.filtered) return depth;
     const std::size_t texels = static_cast<std::size_t>(shadow_map.width) * shadow_map.height;
-    cl::Buffer moments = device_buffer(impl, texels * texel_bytes(Format::moments128), "clCreateBuffer(moment map)");
+    cl::Buffer moments =
+        detail::device_buffer(impl, CL_MEM_READ_WRITE, texels * texel_bytes(Format::moments128), "clCreateBuffer(moment map)");
     FilterOptions filter_options;
     filter_options.format = Format::moments128;
     filter_options.sigma = options.filter_sigma;
@@ -470,18 +459,6 @@ void check_options(const ScatterOptions& options) {
         throw input_error("scatter: the filter sigma must be finite and >= 0");
     if (!std::isfinite(options.beta) || options.beta > 1)
         throw input_error("scatter: beta must be in [0, 1] (or negative for adaptive)");
-}
-
-std::vector<std::uint32_t> read_words(detail::ContextImpl& impl, const cl::Buffer& buffer, std::size_t count) {
-    std::vector<std::uint32_t> words(count);
-    detail::check(impl.queue.enqueueReadBuffer(buffer, CL_TRUE, 0, count * 4, words.data()), "clEnqueueReadBuffer");
-    return words;
-}
-
-std::vector<float> read_floats(detail::ContextImpl& impl, const cl::Buffer& buffer, std::size_t count) {
-    std::vector<float> values(count);
-    detail::check(impl.queue.enqueueReadBuffer(buffer, CL_TRUE, 0, count * 4, values.data()), "clEnqueueReadBuffer");
-    return values;
 }
 
 std::size_t rectified_texels(const ScatterScene& scene) {
@@ -590,7 +567,7 @@ ScatterMap scatter_prefilter(Context& context, const ScatterScene& scene, const 
     check_map_fits(impl, scene, 8);
     const cl::Buffer source = resampling_source(context, scene, shadow_map, options);
     const std::size_t texels = rectified_texels(scene);
-    cl::Buffer map = device_buffer(impl, texels * 8, "clCreateBuffer(scatter map)");
+    cl::Buffer map = detail::device_buffer(impl, CL_MEM_READ_WRITE, texels * 8, "clCreateBuffer(scatter map)");
     run_prefilter(context, scene, source(), options.filtered, shadow_map.width, shadow_map.height, shadow_map.samples,
                   options.moments, output_quantized, map(), map(), Enqueue{});
     ScatterMap result;
@@ -598,7 +575,7 @@ ScatterMap scatter_prefilter(Context& context, const ScatterScene& scene, const 
     result.width = scene.rectified_width;
     result.height = scene.rectified_height;
     result.bounds = rectification_bounds(scene);
-    result.words = read_words(impl, map, texels * 2);
+    result.words = detail::read_words(impl, map, texels * 2);
     return result;
 }
 
@@ -614,11 +591,14 @@ std::vector<float> scatter_evaluate(Context& context, const ScatterScene& scene,
         map.words.size() != rectified_texels(scene) * 2)
         throw input_error("scatter: the map does not match the scene's rectified size");
     detail::ContextImpl& impl = context.impl();
-    const cl::Buffer map_buffer = upload(impl, map.words.data(), map.words.size() * 4, "clCreateBuffer(scatter map)");
-    const cl::Buffer depth = upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
-    cl::Buffer radiance = device_buffer(impl, camera_depth.size() * 4, "clCreateBuffer(radiance)");
+    const cl::Buffer map_buffer =
+        detail::upload(impl, map.words.data(), map.words.size() * 4, "clCreateBuffer(scatter map)");
+    const cl::Buffer depth =
+        detail::upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
+    cl::Buffer radiance =
+        detail::device_buffer(impl, CL_MEM_READ_WRITE, camera_depth.size() * 4, "clCreateBuffer(radiance)");
     scatter_evaluate(context, scene, map_buffer(), options.moments, depth(), radiance(), options.beta);
-    return read_floats(impl, radiance, camera_depth.size());
+    return detail::read_floats(impl, radiance, camera_depth.size());
 }
 
 std::vector<float> scatter(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
@@ -629,26 +609,31 @@ std::vector<float> scatter(Context& context, const ScatterScene& scene, const De
     check_map_fits(impl, scene, 8);
     // Everything stays on the device until the radiance.
     const cl::Buffer source = resampling_source(context, scene, shadow_map, options);
-    cl::Buffer map = device_buffer(impl, rectified_texels(scene) * 8, "clCreateBuffer(scatter map)");
+    cl::Buffer map =
+        detail::device_buffer(impl, CL_MEM_READ_WRITE, rectified_texels(scene) * 8, "clCreateBuffer(scatter map)");
     run_prefilter(context, scene, source(), options.filtered, shadow_map.width, shadow_map.height, shadow_map.samples,
                   options.moments, output_quantized, map(), map(), Enqueue{});
-    const cl::Buffer depth = upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
-    cl::Buffer radiance = device_buffer(impl, camera_depth.size() * 4, "clCreateBuffer(radiance)");
+    const cl::Buffer depth =
+        detail::upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
+    cl::Buffer radiance =
+        detail::device_buffer(impl, CL_MEM_READ_WRITE, camera_depth.size() * 4, "clCreateBuffer(radiance)");
     scatter_evaluate(context, scene, map(), options.moments, depth(), radiance(), options.beta);
-    return read_floats(impl, radiance, camera_depth.size());
+    return detail::read_floats(impl, radiance, camera_depth.size());
 }
 
 std::vector<float> scatter_ray_march(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
                                      const std::vector<float>& camera_depth, int steps, std::uint32_t jitter_seed) {
     validate_scatter_inputs(scene, shadow_map, camera_depth);
     detail::ContextImpl& impl = context.impl();
-    const cl::Buffer shadow = upload(impl, shadow_map.depth.data(), shadow_map.depth.size() * 4,
+    const cl::Buffer shadow = detail::upload(impl, shadow_map.depth.data(), shadow_map.depth.size() * 4,
                                      "clCreateBuffer(shadow map)");
-    const cl::Buffer depth = upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
-    cl::Buffer radiance = device_buffer(impl, camera_depth.size() * 4, "clCreateBuffer(radiance)");
+    const cl::Buffer depth =
+        detail::upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
+    cl::Buffer radiance =
+        detail::device_buffer(impl, CL_MEM_READ_WRITE, camera_depth.size() * 4, "clCreateBuffer(radiance)");
     scatter_ray_march(context, scene, DeviceDepth{shadow(), shadow_map.width, shadow_map.height, shadow_map.samples},
                       depth(), radiance(), steps, jitter_seed);
-    return read_floats(impl, radiance, camera_depth.size());
+    return detail::read_floats(impl, radiance, camera_depth.size());
 }
 
 std::vector<float> scatter_rectified_moments(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
@@ -660,11 +645,11 @@ std::vector<float> scatter_rectified_moments(Context& context, const ScatterScen
     check_map_fits(impl, scene, 4 * options.moments);
     const cl::Buffer source = resampling_source(context, scene, shadow_map, options);
     const std::size_t count = rectified_texels(scene) * options.moments;
-    cl::Buffer floats = device_buffer(impl, count * 4, "clCreateBuffer(rectified moments)");
-    cl::Buffer unused = device_buffer(impl, 4, "clCreateBuffer");
+    cl::Buffer floats = detail::device_buffer(impl, CL_MEM_READ_WRITE, count * 4, "clCreateBuffer(rectified moments)");
+    cl::Buffer unused = detail::device_buffer(impl, CL_MEM_READ_WRITE, 4, "clCreateBuffer");
     run_prefilter(context, scene, source(), options.filtered, shadow_map.width, shadow_map.height, shadow_map.samples,
                   options.moments, prefix_sums ? output_sums : output_resampled, unused(), floats(), Enqueue{});
-    return read_floats(impl, floats, count);
+    return detail::read_floats(impl, floats, count);
 }
 
 std::vector<float> decode_scatter_map(const ScatterMap& map) {

@@ -1,5 +1,7 @@
 // shade: evaluates a filtered map at receivers with kernels/shade.cl.
 #include "ops/kernel_variants.hpp"
+#include "ops/transfer.hpp"
+#include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
@@ -138,37 +140,20 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
         throw input_error("shade: the map holds " + std::to_string(map.words.size()) + " words, a " +
                           std::to_string(map.width) + "x" + std::to_string(map.height) + " " +
                           format_name(map.format) + " map needs " + std::to_string(texels * texel_words(map.format)));
+    detail::validate_receivers("shade", receivers);
     const std::size_t count = receivers.size();
-    if (receivers.u.size() != count || receivers.v.size() != count)
-        throw input_error("shade: receiver arrays differ in length (u " + std::to_string(receivers.u.size()) +
-                          ", v " + std::to_string(receivers.v.size()) + ", z " + std::to_string(count) + ")");
-    for (std::size_t i = 0; i < count; ++i)
-        if (!std::isfinite(receivers.u[i]) || !std::isfinite(receivers.v[i]) || !std::isfinite(receivers.z[i]))
-            throw input_error("shade: receiver " + std::to_string(i) + " is not finite (u " +
-                              std::to_string(receivers.u[i]) + ", v " + std::to_string(receivers.v[i]) + ", z " +
-                              std::to_string(receivers.z[i]) + ")");
     const bool with_pixels = !pixels.x.empty() || !pixels.y.empty();
     if (with_pixels && (pixels.x.size() != count || pixels.y.size() != count))
         throw input_error("shade: " + std::to_string(count) + " receivers but " + std::to_string(pixels.x.size()) +
                           " x and " + std::to_string(pixels.y.size()) + " y pixel coordinates");
-    std::vector<float> result(count);
-    if (count == 0) return result;
+    if (count == 0) return {};
 
     // Upload the map and the receivers (planar u, v, z), shade, read back.
-    cl_int status = CL_SUCCESS;
-    cl::Buffer map_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          map.words.size() * sizeof(std::uint32_t), const_cast<std::uint32_t*>(map.words.data()),
-                          &status);
-    detail::check(status, "clCreateBuffer(map)");
-    std::vector<float> uvz(3 * count);
-    std::copy(receivers.u.begin(), receivers.u.end(), uvz.begin());
-    std::copy(receivers.v.begin(), receivers.v.end(), uvz.begin() + count);
-    std::copy(receivers.z.begin(), receivers.z.end(), uvz.begin() + 2 * count);
-    cl::Buffer receiver_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, uvz.size() * sizeof(float),
-                               uvz.data(), &status);
-    detail::check(status, "clCreateBuffer(receivers)");
-    cl::Buffer result_buffer(impl.context, CL_MEM_WRITE_ONLY, count * sizeof(float), nullptr, &status);
-    detail::check(status, "clCreateBuffer(intensity)");
+    const cl::Buffer map_buffer =
+        detail::upload(impl, map.words.data(), map.words.size() * sizeof(std::uint32_t), "clCreateBuffer(map)");
+    const cl::Buffer receiver_buffer = detail::upload_receivers(impl, receivers);
+    const cl::Buffer result_buffer =
+        detail::device_buffer(impl, CL_MEM_WRITE_ONLY, count * sizeof(float), "clCreateBuffer(intensity)");
 
     cl::Buffer pixel_buffer;
     if (with_pixels && options.lookup == Lookup::dither) {
@@ -176,16 +161,12 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
         std::vector<std::uint32_t> xy(2 * count);
         std::copy(pixels.x.begin(), pixels.x.end(), xy.begin());
         std::copy(pixels.y.begin(), pixels.y.end(), xy.begin() + count);
-        pixel_buffer = cl::Buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, xy.size() * sizeof(std::uint32_t),
-                                  xy.data(), &status);
-        detail::check(status, "clCreateBuffer(pixels)");
+        pixel_buffer = detail::upload(impl, xy.data(), xy.size() * sizeof(std::uint32_t), "clCreateBuffer(pixels)");
     }
 
     shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height}, receiver_buffer(), pixel_buffer(),
           count, result_buffer(), options, Enqueue{});
-    detail::check(impl.queue.enqueueReadBuffer(result_buffer, CL_TRUE, 0, count * sizeof(float), result.data()),
-                  "clEnqueueReadBuffer(intensity)");
-    return result;
+    return detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
 }
 
 } // namespace msmcl

@@ -1,6 +1,8 @@
 // soft_shade: moment soft shadows of receivers from a summed-area table
 // (kernels/sat_soft.cl on the device, kernels/msm_sat.clh compiled as C++ on the host).
 #include "ops/kernel_variants.hpp"
+#include "ops/transfer.hpp"
+#include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 
 #include "kernels/msm_sat.clh"
@@ -122,17 +124,9 @@ std::vector<float> soft_shade(Context& context, const SatTable& table, const Rec
                               const SoftShadowOptions& options) {
     validate_host_table(table);
     soft_shadow_limits(table.max_kernel_texels, options);
+    detail::validate_receivers("soft", receivers);
     const std::size_t count = receivers.size();
-    if (receivers.u.size() != count || receivers.v.size() != count)
-        throw input_error("soft: receiver arrays differ in length (u " + std::to_string(receivers.u.size()) + ", v " +
-                          std::to_string(receivers.v.size()) + ", z " + std::to_string(count) + ")");
-    for (std::size_t i = 0; i < count; ++i)
-        if (!std::isfinite(receivers.u[i]) || !std::isfinite(receivers.v[i]) || !std::isfinite(receivers.z[i]))
-            throw input_error("soft: receiver " + std::to_string(i) + " is not finite (u " +
-                              std::to_string(receivers.u[i]) + ", v " + std::to_string(receivers.v[i]) + ", z " +
-                              std::to_string(receivers.z[i]) + ")");
-    std::vector<float> result(count);
-    if (count == 0) return result;
+    if (count == 0) return {};
 
     // Upload the table and the receivers (planar u, v, z), shade, read back.
     detail::ContextImpl& impl = context.impl();
@@ -141,24 +135,13 @@ std::vector<float> soft_shade(Context& context, const SatTable& table, const Rec
         throw device_error("soft: a " + std::to_string(table.width) + "x" + std::to_string(table.height) +
                           " table exceeds the device's largest buffer (" + std::to_string(impl.info.max_alloc_bytes) +
                           " bytes)");
-    cl_int status = CL_SUCCESS;
-    cl::Buffer table_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, table_bytes,
-                            const_cast<std::uint32_t*>(table.words.data()), &status);
-    detail::check(status, "clCreateBuffer(sat table)");
-    std::vector<float> uvz(3 * count);
-    std::copy(receivers.u.begin(), receivers.u.end(), uvz.begin());
-    std::copy(receivers.v.begin(), receivers.v.end(), uvz.begin() + count);
-    std::copy(receivers.z.begin(), receivers.z.end(), uvz.begin() + 2 * count);
-    cl::Buffer receiver_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, uvz.size() * sizeof(float),
-                               uvz.data(), &status);
-    detail::check(status, "clCreateBuffer(receivers)");
-    cl::Buffer result_buffer(impl.context, CL_MEM_WRITE_ONLY, count * sizeof(float), nullptr, &status);
-    detail::check(status, "clCreateBuffer(intensity)");
+    const cl::Buffer table_buffer = detail::upload(impl, table.words.data(), table_bytes, "clCreateBuffer(sat table)");
+    const cl::Buffer receiver_buffer = detail::upload_receivers(impl, receivers);
+    const cl::Buffer result_buffer =
+        detail::device_buffer(impl, CL_MEM_WRITE_ONLY, count * sizeof(float), "clCreateBuffer(intensity)");
     soft_shade(context, DeviceSat{table_buffer(), table.width, table.height, table.max_kernel_texels},
                receiver_buffer(), count, result_buffer(), options, Enqueue{});
-    detail::check(impl.queue.enqueueReadBuffer(result_buffer, CL_TRUE, 0, count * sizeof(float), result.data()),
-                  "clEnqueueReadBuffer(intensity)");
-    return result;
+    return detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
 }
 
 float soft_shadow_at(const SatTable& table, float u, float v, float z, const SoftShadowOptions& options) {

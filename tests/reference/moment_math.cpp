@@ -14,35 +14,6 @@ namespace {
 
 using Real = long double;
 
-// Solves the 3x3 system m x = rhs by Gaussian elimination with partial pivoting.
-// Returns false if a pivot vanishes.
-bool solve3(Real m[3][3], Real rhs[3], Real x[3]) {
-    for (int col = 0; col < 3; ++col) {
-        // Largest pivot of this column moves up.
-        int pivot = col;
-        for (int row = col + 1; row < 3; ++row)
-            if (std::fabs(m[row][col]) > std::fabs(m[pivot][col])) pivot = row;
-        if (m[pivot][col] == 0) return false;
-        if (pivot != col) {
-            for (int k = 0; k < 3; ++k) std::swap(m[pivot][k], m[col][k]);
-            std::swap(rhs[pivot], rhs[col]);
-        }
-        // Eliminate below.
-        for (int row = col + 1; row < 3; ++row) {
-            Real factor = m[row][col] / m[col][col];
-            for (int k = col; k < 3; ++k) m[row][k] -= factor * m[col][k];
-            rhs[row] -= factor * rhs[col];
-        }
-    }
-    // Back substitution.
-    for (int row = 2; row >= 0; --row) {
-        Real sum = rhs[row];
-        for (int k = row + 1; k < 3; ++k) sum -= m[row][k] * x[k];
-        x[row] = sum / m[row][row];
-    }
-    return true;
-}
-
 // Share of a distribution with at most two points strictly below zf, and at zf.
 Bounds discrete_bounds(Real y1, Real y2, Real v2, Real zf) {
     Bounds bounds;
@@ -71,6 +42,34 @@ const double psi_l0 = std::log(std::log(1.2));
 const double psi_l1 = std::log(std::log(2.5e6));
 
 } // namespace
+
+bool solve3(long double m[3][3], long double rhs[3], long double x[3]) {
+    using Real = long double;
+    for (int col = 0; col < 3; ++col) {
+        // Largest pivot of this column moves up.
+        int pivot = col;
+        for (int row = col + 1; row < 3; ++row)
+            if (std::fabs(m[row][col]) > std::fabs(m[pivot][col])) pivot = row;
+        if (m[pivot][col] == 0) return false;
+        if (pivot != col) {
+            for (int k = 0; k < 3; ++k) std::swap(m[pivot][k], m[col][k]);
+            std::swap(rhs[pivot], rhs[col]);
+        }
+        // Eliminate below.
+        for (int row = col + 1; row < 3; ++row) {
+            Real factor = m[row][col] / m[col][col];
+            for (int k = col; k < 3; ++k) m[row][k] -= factor * m[col][k];
+            rhs[row] -= factor * rhs[col];
+        }
+    }
+    // Back substitution.
+    for (int row = 2; row >= 0; --row) {
+        Real sum = rhs[row];
+        for (int k = row + 1; k < 3; ++k) sum -= m[row][k] * x[k];
+        x[row] = sum / m[row][row];
+    }
+    return true;
+}
 
 double internal_depth(double d, bool depth_range_zero_one) {
     return depth_range_zero_one ? 2.0 * d - 1.0 : d;

@@ -87,6 +87,10 @@ Nlq32Fields unpack_nlq32(std::uint32_t word);
 std::uint32_t encode_nlq32(const Nlq& nlq);
 Nlq decode_nlq32(std::uint32_t word);
 
+/// Solves the 3x3 system m x = rhs by Gaussian elimination with partial pivoting (m and
+/// rhs are overwritten); false if a pivot vanishes. The one linear solver of the references.
+bool solve3(long double m[3][3], long double rhs[3], long double x[3]);
+
 /// Generic 4MSM (Algorithm 1 of Peters, HPG 2017) on biased moments, in long double: Hankel system
 /// B q = (1, zf, zf^2), roots of the quadratic, weights from the Vandermonde system.
 /// Singular B (at most two points of support): the exact shares of that distribution.

@@ -12,30 +12,6 @@ namespace {
 
 using Real = long double;
 
-// Solves the 3x3 system m x = rhs by Gaussian elimination with partial pivoting; false if
-// singular.
-bool solve3(Real m[3][3], Real rhs[3], Real x[3]) {
-    for (int col = 0; col < 3; ++col) {
-        int pivot = col;
-        for (int row = col + 1; row < 3; ++row)
-            if (std::fabs(m[row][col]) > std::fabs(m[pivot][col])) pivot = row;
-        if (m[pivot][col] == 0) return false;
-        for (int k = 0; k < 3; ++k) std::swap(m[pivot][k], m[col][k]);
-        std::swap(rhs[pivot], rhs[col]);
-        for (int row = col + 1; row < 3; ++row) {
-            const Real factor = m[row][col] / m[col][col];
-            for (int k = col; k < 3; ++k) m[row][k] -= factor * m[col][k];
-            rhs[row] -= factor * rhs[col];
-        }
-    }
-    for (int row = 2; row >= 0; --row) {
-        Real sum = rhs[row];
-        for (int k = row + 1; k < 3; ++k) sum -= m[row][k] * x[k];
-        x[row] = sum / m[row][row];
-    }
-    return true;
-}
-
 // Overlap of texel i ([i, i+1)) with [low, high).
 double overlap(int i, double low, double high) {
     return std::max(0.0, std::min(high, i + 1.0) - std::max(low, double(i)));

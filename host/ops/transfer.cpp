@@ -1,0 +1,44 @@
+// Host data in and out of the device (transfer.hpp).
+#include "ops/transfer.hpp"
+
+#include <algorithm>
+
+namespace msmcl::detail {
+
+cl::Buffer upload(ContextImpl& impl, const void* data, std::size_t bytes, const char* what) {
+    cl_int status = CL_SUCCESS;
+    cl::Buffer buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data), &status);
+    check(status, what);
+    return buffer;
+}
+
+cl::Buffer upload_receivers(ContextImpl& impl, const Receivers& receivers) {
+    const std::size_t count = receivers.size();
+    std::vector<float> uvz(3 * count);
+    std::copy(receivers.u.begin(), receivers.u.end(), uvz.begin());
+    std::copy(receivers.v.begin(), receivers.v.end(), uvz.begin() + count);
+    std::copy(receivers.z.begin(), receivers.z.end(), uvz.begin() + 2 * count);
+    return upload(impl, uvz.data(), uvz.size() * sizeof(float), "clCreateBuffer(receivers)");
+}
+
+cl::Buffer device_buffer(ContextImpl& impl, cl_mem_flags flags, std::size_t bytes, const char* what) {
+    cl_int status = CL_SUCCESS;
+    cl::Buffer buffer(impl.context, flags, std::max<std::size_t>(bytes, 4), nullptr, &status);
+    check(status, what);
+    return buffer;
+}
+
+std::vector<float> read_floats(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count, const char* what) {
+    std::vector<float> values(count);
+    check(impl.queue.enqueueReadBuffer(buffer, CL_TRUE, 0, count * sizeof(float), values.data()), what);
+    return values;
+}
+
+std::vector<std::uint32_t> read_words(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count,
+                                      const char* what) {
+    std::vector<std::uint32_t> words(count);
+    check(impl.queue.enqueueReadBuffer(buffer, CL_TRUE, 0, count * sizeof(std::uint32_t), words.data()), what);
+    return words;
+}
+
+} // namespace msmcl::detail

@@ -1,0 +1,29 @@
+// Host data in and out of the device for the host versions of the operations: each host
+// call uploads its inputs, runs the device version on the Context's queue and reads the
+// result back. Errors are opencl_error naming the call ("clCreateBuffer(receivers)").
+#pragma once
+
+#include "runtime/context_impl.hpp"
+
+#include <msmcl/types.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace msmcl::detail {
+
+/// A read-only buffer holding a copy of `bytes` bytes at `data`; `what` names the
+/// clCreateBuffer call in errors.
+cl::Buffer upload(ContextImpl& impl, const void* data, std::size_t bytes, const char* what);
+/// The receivers planar (all u, then all v, then all z), as the device calls take them.
+cl::Buffer upload_receivers(ContextImpl& impl, const Receivers& receivers);
+/// A device buffer of at least `bytes` bytes (at least 4: OpenCL refuses empty buffers).
+cl::Buffer device_buffer(ContextImpl& impl, cl_mem_flags flags, std::size_t bytes, const char* what);
+/// `count` floats (or 32-bit words) read from the start of `buffer`, blocking.
+std::vector<float> read_floats(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count,
+                               const char* what = "clEnqueueReadBuffer");
+std::vector<std::uint32_t> read_words(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count,
+                                      const char* what = "clEnqueueReadBuffer");
+
+} // namespace msmcl::detail
