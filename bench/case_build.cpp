@@ -9,6 +9,7 @@
 //  - first_call: the whole first call with warm caches, as an application sees it.
 #include "harness.hpp"
 #include "probe.hpp"
+#include "tests/process.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -60,21 +61,11 @@ nlohmann::json run_probe(const BenchEnv& env, const Workload& work, const fs::pa
     fs::create_directories(cache_root / "msmcl");
     variables.push_back("POCL_CACHE_DIR=" + (cache_root / "pocl").string());
     variables.push_back("MSMCL_CACHE_DIR=" + (cache_root / "msmcl").string());
-    const auto pointers = [](std::vector<std::string>& strings) {
-        std::vector<char*> list;
-        for (std::string& s : strings) list.push_back(s.data());
-        list.push_back(nullptr);
-        return list;
-    };
-    std::vector<char*> argv = pointers(arguments);
-    std::vector<char*> envp = pointers(variables);
-    pid_t child = 0;
-    if (posix_spawn(&child, env.self_path.c_str(), nullptr, nullptr, argv.data(), envp.data()) != 0)
+    const int exit_code = msmcl::testing::run_process(arguments, "", "", &variables);
+    if (exit_code == msmcl::testing::process_not_started)
         throw error("msmcl-bench: cannot start the first-call probe " + env.self_path);
-    int status = 0;
-    waitpid(child, &status, 0);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw error("msmcl-bench: the first-call probe failed (exit status " + std::to_string(status) + ")");
+    if (exit_code != 0)
+        throw error("msmcl-bench: the first-call probe failed (exit code " + std::to_string(exit_code) + ")");
     std::ifstream in(report);
     return nlohmann::json::parse(in);
 }

@@ -108,4 +108,13 @@ void check_cl(cl_int status, const char* call) {
     if (status != CL_SUCCESS) throw opencl_error(status, call);
 }
 
+Buffer::Buffer(Context& context, std::size_t bytes, const void* data) {
+    cl_int status = CL_SUCCESS;
+    mem = clCreateBuffer(context.cl_context_handle(), data ? CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR : CL_MEM_READ_WRITE,
+                         bytes, const_cast<void*>(data), &status);
+    check_cl(status, "clCreateBuffer(bench)");
+}
+
+Buffer::~Buffer() { clReleaseMemObject(mem); }
+
 } // namespace msmcl::bench

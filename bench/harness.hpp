@@ -110,4 +110,14 @@ std::vector<std::uint32_t> read_texture(Context& context, cl_mem buffer, std::si
 /// Throws msmcl::opencl_error for a failed OpenCL call.
 void check_cl(cl_int status, const char* call);
 
+/// A device buffer of the Context, released at scope exit: a copy of `data` (read-only) when
+/// given, else `bytes` of read-write memory.
+struct Buffer {
+    cl_mem mem = nullptr;
+    Buffer(Context& context, std::size_t bytes, const void* data = nullptr);
+    ~Buffer();
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+};
+
 } // namespace msmcl::bench

@@ -16,6 +16,7 @@
 // `speedup_over_row_per_thread` the median of the per-turn ratios. Table rows record whether
 // they equal the baseline's table bit for bit; soft rows the cost per receiver.
 #include "harness.hpp"
+#include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/sat.hpp>
@@ -110,40 +111,14 @@ __kernel void pcss(__global const float* depth, int width, int height, __global 
 }
 )CLC";
 
-// Built bench kernels per (context, samples, search size), kept for the process.
+// The bench's kernels per (samples, search size), built and kept by the Context's program
+// cache like the library's own (in memory and, with MSMCL_CACHE_DIR, on disk).
 cl_kernel bench_kernel(Context& context, const char* name, int samples, int search) {
-    static std::map<std::tuple<cl_context, std::string, int, int>, cl_kernel> kernels;
-    const auto key = std::make_tuple(context.cl_context_handle(), std::string(name), samples, search);
-    if (auto found = kernels.find(key); found != kernels.end()) return found->second;
-    cl_int status = CL_SUCCESS;
-    const char* sources[] = {kSatBenchSource};
-    cl_program program = clCreateProgramWithSource(context.cl_context_handle(), 1, sources, nullptr, &status);
-    check_cl(status, "clCreateProgramWithSource(sat bench)");
+    detail::ContextImpl& impl = context.impl();
     const std::string options =
         "-cl-std=CL1.2 -DSAMPLES=" + std::to_string(samples) + " -DSEARCH=" + std::to_string(search);
-    cl_device_id device = context.cl_device_handle();
-    check_cl(clBuildProgram(program, 1, &device, options.c_str(), nullptr, nullptr), "clBuildProgram(sat bench)");
-    cl_kernel kernel = clCreateKernel(program, name, &status);
-    check_cl(status, "clCreateKernel(sat bench)");
-    clReleaseProgram(program);
-    kernels.emplace(key, kernel);
-    return kernel;
+    return impl.programs.kernel(impl.context, impl.device, "sat bench", kSatBenchSource, options, name)();
 }
-
-// A device buffer released at scope exit.
-struct Buffer {
-    cl_mem mem = nullptr;
-    Buffer(Context& context, std::size_t bytes, const void* data = nullptr) {
-        cl_int status = CL_SUCCESS;
-        mem = clCreateBuffer(context.cl_context_handle(),
-                             data ? CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR : CL_MEM_READ_WRITE, bytes,
-                             const_cast<void*>(data), &status);
-        check_cl(status, "clCreateBuffer(sat bench)");
-    }
-    ~Buffer() { clReleaseMemObject(mem); }
-    Buffer(const Buffer&) = delete;
-    Buffer& operator=(const Buffer&) = delete;
-};
 
 void set_arg(cl_kernel kernel, cl_uint index, std::size_t size, const void* value) {
     check_cl(clSetKernelArg(kernel, index, size, value), "clSetKernelArg(sat bench)");

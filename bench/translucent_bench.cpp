@@ -25,21 +25,6 @@ namespace msmcl::bench {
 
 namespace {
 
-// A device buffer released at scope exit.
-struct Buffer {
-    cl_mem mem = nullptr;
-    Buffer(Context& context, std::size_t bytes, const void* data = nullptr) {
-        cl_int status = CL_SUCCESS;
-        mem = clCreateBuffer(context.cl_context_handle(),
-                             data ? CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR : CL_MEM_READ_WRITE, bytes,
-                             const_cast<void*>(data), &status);
-        check_cl(status, "clCreateBuffer(translucent bench)");
-    }
-    ~Buffer() { clReleaseMemObject(mem); }
-    Buffer(const Buffer&) = delete;
-    Buffer& operator=(const Buffer&) = delete;
-};
-
 std::vector<float> read_floats(Context& context, cl_mem buffer, std::size_t count) {
     std::vector<float> values(count);
     check_cl(clEnqueueReadBuffer(context.cl_queue_handle(), buffer, CL_TRUE, 0, count * sizeof(float), values.data(), 0,

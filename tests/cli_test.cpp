@@ -5,6 +5,7 @@
 #include "tools/triangle_rasterizer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
+#include "process.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -103,24 +104,14 @@ protected:
     /// Runs a program (no shell) with stdout and stderr captured.
     ProcessResult run(std::vector<std::string> arguments) {
         const std::string out_log = (root_ / "log" / "stdout").string(), err_log = (root_ / "log" / "stderr").string();
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_addopen(&actions, 1, out_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        posix_spawn_file_actions_addopen(&actions, 2, err_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        std::vector<char*> argv;
-        for (std::string& argument : arguments) argv.push_back(argument.data());
-        argv.push_back(nullptr);
-        pid_t pid = 0;
-        const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-        posix_spawn_file_actions_destroy(&actions);
+        const std::string program = arguments[0];
+        const int exit_code = msmcl::testing::run_process(std::move(arguments), out_log, err_log);
         ProcessResult result;
-        if (spawned != 0) {
-            ADD_FAILURE() << "cannot run " << arguments[0];
+        if (exit_code == msmcl::testing::process_not_started) {
+            ADD_FAILURE() << "cannot run " << program;
             return result;
         }
-        int status = 0;
-        waitpid(pid, &status, 0);
-        result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        result.exit_code = exit_code;
         result.out = msmcl::io::read_whole_file(out_log);
         result.err = msmcl::io::read_whole_file(err_log);
         return result;

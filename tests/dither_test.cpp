@@ -36,6 +36,7 @@ namespace ref = msmcl::reference;
 
 #include "random_textures.hpp"
 #include "seeded_test.hpp"
+#include "process.hpp"
 
 namespace {
 
@@ -389,21 +390,9 @@ struct CliRun {
 CliRun run_cli(std::vector<std::string> arguments, const std::filesystem::path& directory) {
     arguments.insert(arguments.begin(), MSMCL_CLI_PATH);
     const std::string err_log = (directory / "stderr").string();
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, err_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    std::vector<char*> argv;
-    for (std::string& argument : arguments) argv.push_back(argument.data());
-    argv.push_back(nullptr);
-    pid_t pid = 0;
     CliRun run;
-    if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) {
-        int status = 0;
-        waitpid(pid, &status, 0);
-        run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-    posix_spawn_file_actions_destroy(&actions);
+    const int exit_code = msmcl::testing::run_process(std::move(arguments), "/dev/null", err_log);
+    if (exit_code != msmcl::testing::process_not_started) run.exit_code = exit_code;
     std::ifstream err(err_log);
     std::stringstream text;
     text << err.rdbuf();

@@ -9,6 +9,7 @@
 #include "io/exr_io.hpp"
 #include "reference/sat_reference.hpp"
 #include "reference/translucent_reference.hpp"
+#include "process.hpp"
 
 #include <msmcl/sat.hpp>
 #include <msmcl/shade.hpp>
@@ -437,18 +438,8 @@ TEST_F(Translucent, ExrLayersRoundTripAndFeedTheCli) {
     if (!std::string(MSMCL_CLI_PATH).empty()) {
         const auto run_cli = [&](std::vector<std::string> arguments) {
             arguments.insert(arguments.begin(), MSMCL_CLI_PATH);
-            std::vector<char*> argv;
-            for (std::string& argument : arguments) argv.push_back(argument.data());
-            argv.push_back(nullptr);
-            posix_spawn_file_actions_t actions;
-            posix_spawn_file_actions_init(&actions);
-            posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-            posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-            pid_t pid = 0;
-            int status = -1;
-            if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) waitpid(pid, &status, 0);
-            posix_spawn_file_actions_destroy(&actions);
-            return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+            const int exit_code = msmcl::testing::run_process(std::move(arguments), "/dev/null", "/dev/null");
+            return exit_code == msmcl::testing::process_not_started ? -1 : exit_code;
         };
         ASSERT_EQ(run_cli({"filter", path("layers.exr"), path("map.exr"), "--format", "nlq64"}), 0);
         msmcl::FilterOptions options;
