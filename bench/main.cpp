@@ -1,10 +1,10 @@
 // msmcl-bench: the filter's cost on one OpenCL device against its peers (a plain C++ loop,
-// OpenCV where installed, a copy of the same bytes), JSON rows and a PNG plot.
+// OpenCV where installed, a copy of the same bytes) as JSON rows; scripts/plot_bench.py
+// plots them.
 //   msmcl-bench --size N --samples S --format F [--device D] [--reps R] --json FILE
 // Without --size: the full sweep (512^2 .. 4096^2, S = 1, 4, 8, every format; --samples
 // and --format restrict it).
 #include "harness.hpp"
-#include "plot.hpp"
 #include "probe.hpp"
 #include "scene.hpp"
 
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
     CLI::App app{"msmcl-bench: cost of the moment shadow map filter on an OpenCL device against its peers",
                  "msmcl-bench"};
     int size = 0, samples = 0, reps = 0, build_reps = -1;
-    std::string format_text, device, json_path, plot_path;
+    std::string format_text, device, json_path;
     std::vector<std::string> only_cases;
     bool probe = false;
     app.add_option("--size", size, "map width = height in texels; without it the full sweep 512..4096")
@@ -115,7 +115,6 @@ int main(int argc, char** argv) {
     app.add_option("--reps", reps, "timed repetitions per case (default 10, 7, 5, 2 from 512^2 to 4096^2)")
         ->check(CLI::Range(1, 10000));
     app.add_option("--json", json_path, "where the JSON array of rows goes")->required();
-    app.add_option("--plot", plot_path, "PNG plot of cost against size (default: the JSON path with .png)");
     app.add_option("--case", only_cases, "run only these cases (repeatable; build = the build/first-call rows)");
     app.add_option("--build-reps", build_reps,
                    "probe processes per build row (default 2 for one configuration, 1 at 2048^2 S=4 in a sweep)");
@@ -215,12 +214,8 @@ int main(int argc, char** argv) {
         std::ofstream out(json_path);
         out << nlohmann::json(rows).dump(2) << '\n';
         if (!out) throw error("msmcl-bench: cannot write " + json_path);
-        if (plot_path.empty()) {
-            std::filesystem::path path(json_path);
-            plot_path = path.replace_extension(".png").string();
-        }
-        write_cost_plot(plot_path, rows);
-        std::cout << "wrote " << json_path << " and " << plot_path << "\n";
+        // Plots: scripts/plot_bench.py (matplotlib) reads these rows.
+        std::cout << "wrote " << json_path << " (plot: python3 scripts/plot_bench.py " << json_path << ")\n";
         return 0;
     } catch (const input_error& e) {
         std::cerr << "msmcl-bench: " << e.what() << "\n";

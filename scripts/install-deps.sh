@@ -11,6 +11,8 @@ packages=(
   mesa-vulkan-drivers libvulkan-dev spirv-tools
   strace
   assimp-testmodels
+  # Plots of the bench's JSON (scripts/plot_bench.py).
+  python3-matplotlib
   # Offline GPU compiles (scripts/gpu_compile_report.py): AMDGPU and NVPTX through clang and
   # libclc; libllvm14 and libclang-cpp14 for Intel's ocloc, unpacked below.
   python3 clang-15 llvm-15 libclc-15 libclc-15-dev libllvm14 libclang-cpp14
