@@ -84,7 +84,7 @@ msm_moments msm_bias(msm_moments b, float alpha, float bstar) {
     return m;
 }
 
-// ---- Hamburger 4MSM (Algorithm 1 of Peters 2017, the GDC 2016 HLSL with SPEC's fixes).
+// ---- Hamburger 4MSM (Algorithm 1 of Peters, HPG 2017, the GDC 2016 HLSL with the fixes of docs/math.md).
 msm_hamburger_bounds msm_hamburger4_factored(float b1, float b2, float d22, float l32, float d33, float zf) {
     msm_hamburger_bounds result;
     float inv_d22 = 1.0f / d22;
@@ -223,7 +223,7 @@ msm_moments msm_decode_moments128(float4 texel) {
     return m;
 }
 
-// msm64: the inverse affine transform of SPEC section 3 (unbiased moments).
+// msm64: the inverse affine transform of docs/math.md (unbiased moments).
 msm_moments msm_decode_msm64(float4 channels) {
     float r = channels.x - 0.5f;
     float g = channels.y;
@@ -282,7 +282,7 @@ float msm_shadow_nlq64(float4 channels, float zf) { return msm_nlq_shadow(msm_de
 
 float msm_shadow_nlq32(uint w, float zf) { return msm_nlq_shadow(msm_decode_nlq32(w), zf); }
 
-// ---- Lookups (SPEC section 8), clamped to the edge; u, v in texels.
+// ---- Lookups (docs/math.md, Lookups), clamped to the edge; u, v in texels.
 
 // Texel floor(coordinate) clamped to [0, size - 1] (NaN -> 0): the nearest lookup.
 int msm_texel_index(float coordinate, int size) {
@@ -621,7 +621,7 @@ float msm_lookup_moments128_accurate(Texture2D<float4> map, int width, int heigh
                                     zf);
 }
 
-// ---- Summed-area tables and moment soft shadows (msm_sat.clh; SPEC section 5).
+// ---- Summed-area tables and moment soft shadows (msm_sat.clh; docs/math.md).
 struct msm_sat_sum {
     uint c0;
     uint c1;
@@ -859,7 +859,7 @@ float msm_sat_soft_shadow(Texture2D<uint4> table, msm_sat_soft_params p, float u
     return msm_hamburger4_lower(msm_bias(b, MSM_SAT_ALPHA, MSM_SAT_BSTAR), zf);
 }
 
-// ---- Prefiltered single scattering (msm_scatter.clh; SPEC section 6): decoding the
+// ---- Prefiltered single scattering (msm_scatter.clh; docs/math.md): decoding the
 // six-moment textures (two RGB10_A2 unorm, bilinear filtering allowed) and the bounds.
 struct msm_moments6 {
     float b1;
@@ -1034,7 +1034,7 @@ msm_moments6 msm_scatter_bias6(msm_moments6 b) {
 }
 
 // Shadow of a view ray at rectified depth zf from prefix-summed moments, blended by beta
-// ((1 + dot(light direction, view direction)) / 2 in SPEC section 6). The bias distribution
+// ((1 + dot(light direction, view direction)) / 2 in docs/math.md). The bias distribution
 // (arcsine on [-1, 1]) has the share 1/2 + asin(zf) / pi below zf: taken out again, so the
 // bounds are those of the stored moments (no uniform leak of up to alpha in full shadow).
 float msm_scatter_shadow6(msm_moments6 unbiased, float zf, float beta) {

@@ -16,6 +16,7 @@
 #include "runtime/opencl.hpp"
 
 #include <msmcl/context.hpp>
+#include <msmcl/device_math.hpp>
 #include <msmcl/shade.hpp>
 
 #include <gtest/gtest.h>
@@ -404,7 +405,7 @@ TYPED_TEST(ShaderLanguage, DecodersAndTexelShadingMatchTheDeviceFunctions) {
 
 // The whole lookups on random textures: nearest and bilinear against the composition of
 // the device functions that kernels/shade.cl makes (with the fast 4MSM for the linear
-// formats), dithered against SPEC section 8 directly.
+// formats), dithered against docs/math.md directly.
 TYPED_TEST(ShaderLanguage, LookupsMatchTheShadeKernelsComposition) {
     std::mt19937 random(test_seed() + 2);
     const int width = 13, height = 9;
@@ -467,7 +468,7 @@ TYPED_TEST(ShaderLanguage, LookupsMatchTheShadeKernelsComposition) {
         ASSERT_TRUE(same_bits(TypeParam::lookup_nlq32(nlq32.data(), width, height, u, v, zf, 1, 0, 0),
                               msm_bilinear(nlq32_shadow(t00), nlq32_shadow(t10), nlq32_shadow(t01), nlq32_shadow(t11),
                                            k.tx, k.ty)));
-        // dithered: texel floor(u - 0.5 + n), clamped to the edge (SPEC section 8)
+        // dithered: texel floor(u - 0.5 + n), clamped to the edge (docs/math.md, Lookups)
         const float nx = unit(random), ny = unit(random);
         const int dx = std::clamp(static_cast<int>(std::floor(u - 0.5f + nx)), 0, width - 1);
         const int dy = std::clamp(static_cast<int>(std::floor(v - 0.5f + ny)), 0, height - 1);

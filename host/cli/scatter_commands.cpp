@@ -1,7 +1,10 @@
 #include "cli/scatter_commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/stages.hpp"
+#include "cli/texture_files.hpp"
 
 #include "io/exr_io.hpp"
+#include "io/scene_json.hpp"
 #include "io/gpu_image.hpp"
 #include "io/ktx2.hpp"
 
@@ -120,11 +123,19 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     const auto jitter = static_cast<std::uint32_t>(parse_integer("--jitter", a.jitter, 0, 0xffffffffL));
     if (ray_steps > 0 && (!a.rectified.empty() || !a.prefix_sums.empty() || !a.map.empty()))
         throw usage_error("--rectified, --prefix-sums and --map need the prefiltered method (no --ray-march)");
+    // Every output of scatter is OpenEXR but the renderer's map (KTX2).
+    require_exr_output(a.output);
+    if (!a.rectified.empty()) require_exr_output(a.rectified);
+    if (!a.prefix_sums.empty()) require_exr_output(a.prefix_sums);
+
+    Stages stages(global.verbose, 6);
 
     // Read and check the inputs.
-    const ScatterScene scene = load_scatter_scene(a.scene);
-    const DepthImage shadow_map = io::read_depth_exr(a.shadow_map, scene.light.depth_range);
-    const std::vector<float> camera_depth = read_camera_depth(a.camera_depth, scene);
+    const ScatterScene scene = stages.run("read scene", [&] { return load_scatter_scene(a.scene); });
+    const DepthImage shadow_map =
+        stages.run("read shadow map", [&] { return io::read_depth_exr(a.shadow_map, scene.light.depth_range); });
+    const std::vector<float> camera_depth =
+        stages.run("read camera depth", [&] { return read_camera_depth(a.camera_depth, scene); });
     try {
         validate_scatter_inputs(scene, shadow_map, camera_depth);
     } catch (const input_error& e) {
@@ -133,16 +144,18 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     }
 
     // Compute on the device.
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> radiance;
     std::string method;
-    if (ray_steps > 0) {
-        radiance = scatter_ray_march(context, scene, shadow_map, camera_depth, ray_steps, jitter);
-        method = "ray_march_" + std::to_string(ray_steps);
-    } else {
-        radiance = scatter(context, scene, shadow_map, camera_depth, options);
-        method = "prefiltered_" + std::to_string(options.moments) + (options.filtered ? "_filtered" : "_unfiltered");
-    }
+    stages.run("scatter (program, upload, kernels, download)", [&] {
+        if (ray_steps > 0) {
+            radiance = scatter_ray_march(context, scene, shadow_map, camera_depth, ray_steps, jitter);
+            method = "ray_march_" + std::to_string(ray_steps);
+        } else {
+            radiance = scatter(context, scene, shadow_map, camera_depth, options);
+            method = "prefiltered_" + std::to_string(options.moments) + (options.filtered ? "_filtered" : "_unfiltered");
+        }
+    });
     if (!a.rectified.empty())
         write_moments_exr(a.rectified, scene.rectified_width, scene.rectified_height, options.moments,
                           scatter_rectified_moments(context, scene, shadow_map, options, false), "resampled");
@@ -159,7 +172,7 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     image.height = scene.camera.height;
     image.channels = {{"Y", io::SampleType::float32, radiance, {}}};
     image.attributes = {{"msmcl:scatterMethod", method}};
-    io::write_exr(a.output, image);
+    stages.run("write", [&] { io::write_exr(a.output, image); });
 }
 
 } // namespace msmcl::cli

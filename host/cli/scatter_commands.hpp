@@ -1,4 +1,4 @@
-// The single-scattering subcommand of msmcl (SPEC section 6):
+// The single-scattering subcommand of msmcl (docs/math.md):
 //   msmcl scatter SCENE.json SHADOWMAP.exr CAMERA_DEPTH.exr OUT.exr [--moments 4|6]
 //                 [--no-filter] [--sigma S] [--beta adaptive|B] [--ray-march N [--jitter SEED]]
 //                 [--rectified FILE] [--prefix-sums FILE]
