@@ -27,6 +27,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <ostream>
 #include <random>
 #include <string>
 #include <sys/wait.h>
@@ -259,6 +260,7 @@ struct ShadeCase {
     const char* scene;
     const char* format;
 };
+void PrintTo(const ShadeCase& shade_case, std::ostream* out) { *out << shade_case.scene << ' ' << shade_case.format; }
 std::string shade_case_name(const testing::TestParamInfo<ShadeCase>& info) {
     return std::string(info.param.scene) + "_" + info.param.format;
 }
