@@ -397,32 +397,44 @@ std::string text_name(const testing::TestParamInfo<const char*>& info) { return 
 
 INSTANTIATE_TEST_SUITE_P(Maps, VulkanSoft, testing::Values("railing", "random"), text_name);
 
-// ---- Six-moment single scattering from the two A2B10G10R10_UNORM_PACK32 layers.
+// ---- Single scattering from the prefiltered map: six moments in two
+// A2B10G10R10_UNORM_PACK32 layers, four in one R16G16B16A16_UNORM image.
 //
-// kScatterRelative (of the image's largest radiance): msmcl's kernel blends the six decoded
+// kScatterRelative (of the image's largest radiance): msmcl's kernel blends the decoded
 // moments of four texels with float32 weights; the shader lets the sampler blend the UNORM10
-// channels (decoding is affine, so only the weights' precision differs: at least 8
-// fractional bits) and runs the same float32 bounds. Measured on lavapipe: 1.2e-5 absolute
-// at radiances up to ~0.3.
+// (UNORM16) channels (decoding is affine, so only the weights' precision differs: at least 8
+// fractional bits) and runs the same float32 bounds. Measured on lavapipe: 9.5e-6 absolute
+// at radiances up to 3.6 (six moments).
 constexpr double kScatterRelative = 2e-3;
 
-class VulkanScatter : public testing::TestWithParam<const char*> {};
+struct ScatterCase {
+    const char* scene;
+    int moments;
+};
+void PrintTo(const ScatterCase& c, std::ostream* out) { *out << c.scene << ' ' << c.moments << " moments"; }
+std::string scatter_case_name(const testing::TestParamInfo<ScatterCase>& info) {
+    return std::string(info.param.scene) + "_" + std::to_string(info.param.moments);
+}
 
-TEST_P(VulkanScatter, SixMomentScatteringAgreesWithMsmclScatter) {
+class VulkanScatter : public testing::TestWithParam<ScatterCase> {};
+
+TEST_P(VulkanScatter, PrefilteredScatteringAgreesWithMsmclScatter) {
     REQUIRE_VULKAN_DEVICE();
     const Scratch scratch;
-    const std::string name = GetParam();
+    const std::string name = GetParam().scene;
+    const std::string moments = std::to_string(GetParam().moments);
     const std::string scene = scratch / "scene.json", shadow_map = scratch / "shadow.exr",
                       camera = scratch / "camera.exr", map = scratch / "map.ktx2", reference = scratch / "cl.exr";
     run_ok(quoted(MSMCL_SCATTER_SCENE_PATH) + " " + quoted(std::string(MSMCL_SOURCE_DIR) + "/data/scatter/" + name + ".json") +
            " --map-size 256 --camera-width 96 --camera-height 72 --rectified-size 128 --write-scene " + quoted(scene) +
            " --shadow-map " + quoted(shadow_map) + " --camera-depth " + quoted(camera));
     run_ok(cli() + " scatter " + quoted(scene) + " " + quoted(shadow_map) + " " + quoted(camera) + " " +
-           quoted(reference) + " --moments 6 --map " + quoted(map));
+           quoted(reference) + " --moments " + moments + " --map " + quoted(map));
     if (HasFatalFailure()) return;
     const msmcl::io::GpuImage image = msmcl::io::read_ktx2(map);
-    EXPECT_EQ(image.format, msmcl::io::GpuFormat::a2b10g10r10_unorm_pack32);
-    EXPECT_EQ(image.layers, 2);
+    EXPECT_EQ(image.format, GetParam().moments == 6 ? msmcl::io::GpuFormat::a2b10g10r10_unorm_pack32
+                                                    : msmcl::io::GpuFormat::r16g16b16a16_unorm);
+    EXPECT_EQ(image.layers, GetParam().moments == 6 ? 2 : 1);
     const std::vector<float> expected = read_y(reference);
     const double brightest = *std::max_element(expected.begin(), expected.end());
     ASSERT_GT(brightest, 0.0);
@@ -433,12 +445,14 @@ TEST_P(VulkanScatter, SixMomentScatteringAgreesWithMsmclScatter) {
         const std::vector<float> radiance = read_y(out);
         ASSERT_EQ(radiance.size(), expected.size());
         const Difference d = difference(expected, radiance);
-        print(name + (hlsl ? " hlsl" : " glsl") + " scatter vs msmcl scatter (brightest " + std::to_string(brightest) + ")", d);
+        print(name + " " + moments + (hlsl ? " hlsl" : " glsl") + " scatter vs msmcl scatter (brightest " + std::to_string(brightest) + ")", d);
         EXPECT_LE(d.largest, kScatterRelative * brightest);
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, VulkanScatter, testing::Values("hall", "pergola"), text_name);
+INSTANTIATE_TEST_SUITE_P(Scenes, VulkanScatter,
+                         testing::Values(ScatterCase{"hall", 6}, ScatterCase{"pergola", 6}, ScatterCase{"hall", 4}),
+                         scatter_case_name);
 
 // ---- The KTX2 outputs the consumer reads hold exactly what msmcl's EXR outputs hold (no
 // Vulkan device needed).
