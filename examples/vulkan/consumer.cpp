@@ -460,6 +460,8 @@ int report(const std::string& message, int code) {
 int main(int argc, char** argv) {
     CLI::App app{"msmcl-vulkan: msmcl's KTX2 textures sampled by a headless Vulkan 1.2 compute consumer"};
     app.require_subcommand(1);
+    // --hlsl and --device also after the subcommand's arguments.
+    app.fallthrough();
     Language language;
     int device_index = -1;
     app.add_flag("--hlsl", language.hlsl, "run the HLSL route (shaders/msm.hlsl) instead of GLSL");
@@ -497,7 +499,7 @@ int main(int argc, char** argv) {
 
     ScatterArguments scatter;
     CLI::App* scatter_command =
-        app.add_subcommand("scatter", "scene JSON + six-moment map KTX2 + camera depth EXR -> radiance EXR (Y)");
+        app.add_subcommand("scatter", "scene JSON + prefiltered map KTX2 + camera depth EXR -> radiance EXR (Y)");
     scatter_command->add_option("scene", scatter.scene, "scene JSON (msmcl scatter's)")->required();
     scatter_command->add_option("map", scatter.map, "prefiltered map KTX2 (msmcl scatter --map)")->required();
     scatter_command->add_option("camera_depth", scatter.camera_depth, "camera depth EXR (Z)")->required();
