@@ -16,6 +16,7 @@
 #include "io/sat_exr.hpp"
 #include "kernels/msm_scatter.clh"
 #include "kernels/msm_shading.clh"
+#include "tests/seeded_test.hpp"
 
 #include <msmcl/device_math.hpp>
 
@@ -38,13 +39,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The run's seed (tests/seeded_test.hpp: MSMCL_TEST_SEED, else 14; printed once), recorded
+// per test. The random map is the same for every test of a run.
 unsigned test_seed() {
-    static const unsigned seed = [] {
-        const char* text = std::getenv("MSMCL_TEST_SEED");
-        const unsigned value = text ? static_cast<unsigned>(std::strtoul(text, nullptr, 10)) : 14u;
-        std::printf("vulkan_consumer_test: seed %u (MSMCL_TEST_SEED overrides)\n", value);
-        return value;
-    }();
+    const auto seed = static_cast<unsigned>(msmcl::testing::run_seed(14));
+    testing::Test::RecordProperty("seed", std::to_string(seed));
     return seed;
 }
 
