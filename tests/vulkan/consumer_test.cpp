@@ -1,8 +1,9 @@
 // msmcl-vulkan (examples/vulkan) against msmcl's own commands: KTX2 textures uploaded into
 // VkImages of the README's formats and sampled by shaders/msm.glsl and shaders/msm.hlsl on
 // a Vulkan device (lavapipe in CI), compared with `msmcl shade`, `msmcl soft` and
-// `msmcl scatter` (OpenCL, PoCL in CI) on the same inputs: every format, every lookup, both
-// shading languages, the summed-area table and the six-moment scattering map.
+// `msmcl scatter` (OpenCL, PoCL in CI) on the same inputs (shade and soft read the very same
+// KTX2 files): every format, every lookup, both shading languages, the summed-area table
+// and the prefiltered scattering maps.
 //
 // Inputs: the shipped railing map and view, and a map no other test uses: random boxes
 // over a sloped ground at 97 x 71 texels, 2 samples, with random receivers (some outside
@@ -273,11 +274,12 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
     const Inputs inputs = inputs_of(GetParam().scene, scratch);
     const std::string format = GetParam().format;
     const bool linear = format == "moments128" || format == "msm64";
-    const std::string exr = scratch / "map.exr", ktx2 = scratch / "map.ktx2";
-    run_ok(cli() + " filter " + quoted(inputs.depth) + " " + quoted(exr) + " --format " + format);
+    // One KTX2 file, read by msmcl shade and by the Vulkan consumer alike.
+    const std::string ktx2 = scratch / "map.ktx2";
     run_ok(cli() + " filter " + quoted(inputs.depth) + " " + quoted(ktx2) + " --format " + format);
     if (HasFatalFailure()) return;
-    const msmcl::io::TextureFile map = msmcl::io::read_texture_exr(exr);
+    const msmcl::Texture texture =
+        msmcl::io::texture_of(msmcl::io::read_ktx2(ktx2), *msmcl::parse_format(format), ktx2);
     const msmcl::io::ReceiverGrid grid = msmcl::io::read_receivers_exr(inputs.receivers);
     std::printf("%s %s: %zu receivers\n", GetParam().scene, format.c_str(), grid.points.size());
 
@@ -286,7 +288,7 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
     for (int lookup = 0; lookup < 3; ++lookup) {
         const std::string options = std::string(" --lookup ") + lookups[lookup] + " --frame " + frame;
         const std::string reference = scratch / (std::string("cl_") + lookups[lookup] + ".exr");
-        run_ok(cli() + " shade " + quoted(exr) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
+        run_ok(cli() + " shade " + quoted(ktx2) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
         if (HasFatalFailure()) return;
         const std::vector<float> expected = read_y(reference);
         ASSERT_EQ(expected.size(), grid.points.size());
@@ -304,7 +306,7 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
                 continue;
             }
             // The linear formats: the shader's fast path reproduced on the host, then msmcl's.
-            const Difference against_fast = difference(host_fast_path(map.texture, grid, lookup, 5, 1e-3f), shadow);
+            const Difference against_fast = difference(host_fast_path(texture, grid, lookup, 5, 1e-3f), shadow);
             print(what + " vs float32 fast path (host)", against_fast);
             EXPECT_LE(against_fast.rms, kDeviceRounding) << what;
             EXPECT_LE(against_fast.largest, kFastPathRounding) << what;
@@ -325,8 +327,8 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
     }
     if (!linear) return;
     // Bilinear weights of 8 fractional bits, emulated on the host, against float32 weights.
-    const Difference quantized = difference(host_fast_path(map.texture, grid, 1, 0, 1e-3f),
-                                            host_fast_path(map.texture, grid, 1, 0, 1e-3f, 8));
+    const Difference quantized = difference(host_fast_path(texture, grid, 1, 0, 1e-3f),
+                                            host_fast_path(texture, grid, 1, 0, 1e-3f, 8));
     print("host: 8-bit vs float32 bilinear weights", quantized);
     const int linear_index = format == "moments128" ? 0 : 1;
     EXPECT_LE(quantized.largest, kHardwareBilinearMax[linear_index]);
@@ -370,11 +372,11 @@ TEST_P(VulkanSoft, SatSoftShadowsAgreeWithMsmclSoft) {
     test_seed();
     const Scratch scratch;
     const Inputs inputs = inputs_of(GetParam(), scratch);
-    const std::string exr = scratch / "sat.exr", ktx2 = scratch / "sat.ktx2", reference = scratch / "cl.exr";
+    // One KTX2 table, read by msmcl soft and by the Vulkan consumer alike.
+    const std::string ktx2 = scratch / "sat.ktx2", reference = scratch / "cl.exr";
     const std::string options = " --light-size 40 --depth-bias 0.02";
-    run_ok(cli() + " sat " + quoted(inputs.depth) + " " + quoted(exr) + " --max-kernel 729");
     run_ok(cli() + " sat " + quoted(inputs.depth) + " " + quoted(ktx2) + " --max-kernel 729");
-    run_ok(cli() + " soft " + quoted(exr) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
+    run_ok(cli() + " soft " + quoted(ktx2) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
     if (HasFatalFailure()) return;
     const msmcl::io::GpuImage table = msmcl::io::read_ktx2(ktx2);
     EXPECT_EQ(table.format, msmcl::io::GpuFormat::r32g32b32a32_uint);
