@@ -1,5 +1,6 @@
 // filter: depth map -> resolved, blurred, quantized moment shadow map (docs/math.md).
 #include "ops/kernel_variants.hpp"
+#include "ops/transfer.hpp"
 #include "ops/translucent_layers.hpp"
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
@@ -381,22 +382,19 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
     texture.width = depth.width;
     texture.height = depth.height;
     texture.words.resize(detail::texel_count(depth.width, depth.height) * texel_words(options.format));
-    cl_int status = CL_SUCCESS;
-    cl::Buffer depth_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, values * sizeof(float),
-                            const_cast<float*>(depth.depth.data()), &status);
-    detail::check(status, "clCreateBuffer(depth)");
+    const cl::Buffer depth_buffer =
+        detail::upload(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
     LayerBuffers layer_buffers;
     if (!layers.empty()) {
-        std::vector<float> layer_depth = detail::concatenated_depths(layers);
-        std::vector<float> layer_opacity = detail::concatenated_opacities(layers);
-        layer_buffers.depth = cl::Buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                         layer_depth.size() * sizeof(float), layer_depth.data(), &status);
-        detail::check(status, "clCreateBuffer(layer depth)");
-        layer_buffers.opacity = cl::Buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                           layer_opacity.size() * sizeof(float), layer_opacity.data(), &status);
-        detail::check(status, "clCreateBuffer(layer opacity)");
+        const std::vector<float> layer_depth = detail::concatenated_depths(layers);
+        const std::vector<float> layer_opacity = detail::concatenated_opacities(layers);
+        layer_buffers.depth = detail::upload(impl, layer_depth.data(), layer_depth.size() * sizeof(float),
+                                             "clCreateBuffer(layer depth)");
+        layer_buffers.opacity = detail::upload(impl, layer_opacity.data(), layer_opacity.size() * sizeof(float),
+                                               "clCreateBuffer(layer opacity)");
         layer_buffers.count = static_cast<int>(layers.size());
     }
+    cl_int status = CL_SUCCESS;
     const std::size_t texture_bytes = texture.words.size() * sizeof(std::uint32_t);
     cl::Buffer texture_buffer(impl.context, CL_MEM_WRITE_ONLY, texture_bytes, nullptr, &status);
     detail::check(status, "clCreateBuffer(texture)");

@@ -1,6 +1,7 @@
 // sat: depth map -> integer modular summed-area table (kernels/sat_build.cl), and the
 // table queries on host (kernels/msm_sat.clh compiled as C++) and device (sat_query.cl).
 #include "ops/kernel_variants.hpp"
+#include "ops/transfer.hpp"
 #include "ops/translucent_layers.hpp"
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
@@ -375,10 +376,9 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
     table.max_kernel_texels = options.max_kernel_texels;
     table.scale = scale;
     table.words.resize(4 * texel_count(depth.width, depth.height));
+    const cl::Buffer depth_buffer =
+        detail::upload(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
     cl_int status = CL_SUCCESS;
-    cl::Buffer depth_buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, values * sizeof(float),
-                            const_cast<float*>(depth.depth.data()), &status);
-    detail::check(status, "clCreateBuffer(depth)");
     const std::size_t table_bytes = table.words.size() * sizeof(std::uint32_t);
     cl::Buffer table_buffer(impl.context, CL_MEM_READ_WRITE, table_bytes, nullptr, &status);
     detail::check(status, "clCreateBuffer(sat table)");
@@ -390,12 +390,11 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
     } else {
         std::vector<float> layer_depth = detail::concatenated_depths(layers);
         std::vector<float> layer_opacity = detail::concatenated_opacities(layers);
-        cl::Buffer depth_layers(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, layer_depth.size() * sizeof(float),
-                                layer_depth.data(), &status);
-        detail::check(status, "clCreateBuffer(layer depth)");
-        cl::Buffer opacity_layers(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                  layer_opacity.size() * sizeof(float), layer_opacity.data(), &status);
-        detail::check(status, "clCreateBuffer(layer opacity)");
+        const cl::Buffer depth_layers = detail::upload(impl, layer_depth.data(), layer_depth.size() * sizeof(float),
+                                                       "clCreateBuffer(layer depth)");
+        const cl::Buffer opacity_layers = detail::upload(impl, layer_opacity.data(),
+                                                         layer_opacity.size() * sizeof(float),
+                                                         "clCreateBuffer(layer opacity)");
         done = enqueue_translucent_build(impl, impl.queue, {}, depth_buffer, depth_layers, opacity_layers,
                                          static_cast<int>(layers.size()), source, depth.width, depth.height,
                                          table_buffer, kernel);

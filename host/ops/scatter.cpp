@@ -461,6 +461,18 @@ void check_options(const ScatterOptions& options) {
         throw input_error("scatter: beta must be in [0, 1] (or negative for adaptive)");
 }
 
+/// The camera pass of the host calls: the camera depth uploaded, `run(depth, radiance)`
+/// enqueues the device call that writes one radiance per pixel, the radiance read back.
+template <typename Run>
+std::vector<float> camera_pass(detail::ContextImpl& impl, const std::vector<float>& camera_depth, Run run) {
+    const cl::Buffer depth =
+        detail::upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
+    const cl::Buffer radiance =
+        detail::device_buffer(impl, CL_MEM_READ_WRITE, camera_depth.size() * 4, "clCreateBuffer(radiance)");
+    run(depth(), radiance());
+    return detail::read_floats(impl, radiance, camera_depth.size());
+}
+
 std::size_t rectified_texels(const ScatterScene& scene) {
     return static_cast<std::size_t>(scene.rectified_width) * scene.rectified_height;
 }
@@ -593,12 +605,9 @@ std::vector<float> scatter_evaluate(Context& context, const ScatterScene& scene,
     detail::ContextImpl& impl = context.impl();
     const cl::Buffer map_buffer =
         detail::upload(impl, map.words.data(), map.words.size() * 4, "clCreateBuffer(scatter map)");
-    const cl::Buffer depth =
-        detail::upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
-    cl::Buffer radiance =
-        detail::device_buffer(impl, CL_MEM_READ_WRITE, camera_depth.size() * 4, "clCreateBuffer(radiance)");
-    scatter_evaluate(context, scene, map_buffer(), options.moments, depth(), radiance(), options.beta);
-    return detail::read_floats(impl, radiance, camera_depth.size());
+    return camera_pass(impl, camera_depth, [&](cl_mem depth, cl_mem radiance) {
+        scatter_evaluate(context, scene, map_buffer(), options.moments, depth, radiance, options.beta);
+    });
 }
 
 std::vector<float> scatter(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
@@ -613,12 +622,9 @@ std::vector<float> scatter(Context& context, const ScatterScene& scene, const De
         detail::device_buffer(impl, CL_MEM_READ_WRITE, rectified_texels(scene) * 8, "clCreateBuffer(scatter map)");
     run_prefilter(context, scene, source(), options.filtered, shadow_map.width, shadow_map.height, shadow_map.samples,
                   options.moments, output_quantized, map(), map(), Enqueue{});
-    const cl::Buffer depth =
-        detail::upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
-    cl::Buffer radiance =
-        detail::device_buffer(impl, CL_MEM_READ_WRITE, camera_depth.size() * 4, "clCreateBuffer(radiance)");
-    scatter_evaluate(context, scene, map(), options.moments, depth(), radiance(), options.beta);
-    return detail::read_floats(impl, radiance, camera_depth.size());
+    return camera_pass(impl, camera_depth, [&](cl_mem depth, cl_mem radiance) {
+        scatter_evaluate(context, scene, map(), options.moments, depth, radiance, options.beta);
+    });
 }
 
 std::vector<float> scatter_ray_march(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
@@ -626,14 +632,11 @@ std::vector<float> scatter_ray_march(Context& context, const ScatterScene& scene
     validate_scatter_inputs(scene, shadow_map, camera_depth);
     detail::ContextImpl& impl = context.impl();
     const cl::Buffer shadow = detail::upload(impl, shadow_map.depth.data(), shadow_map.depth.size() * 4,
-                                     "clCreateBuffer(shadow map)");
-    const cl::Buffer depth =
-        detail::upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
-    cl::Buffer radiance =
-        detail::device_buffer(impl, CL_MEM_READ_WRITE, camera_depth.size() * 4, "clCreateBuffer(radiance)");
-    scatter_ray_march(context, scene, DeviceDepth{shadow(), shadow_map.width, shadow_map.height, shadow_map.samples},
-                      depth(), radiance(), steps, jitter_seed);
-    return detail::read_floats(impl, radiance, camera_depth.size());
+                                             "clCreateBuffer(shadow map)");
+    return camera_pass(impl, camera_depth, [&](cl_mem depth, cl_mem radiance) {
+        scatter_ray_march(context, scene, DeviceDepth{shadow(), shadow_map.width, shadow_map.height, shadow_map.samples},
+                          depth, radiance, steps, jitter_seed);
+    });
 }
 
 std::vector<float> scatter_rectified_moments(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
