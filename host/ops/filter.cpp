@@ -400,10 +400,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
     detail::check(status, "clCreateBuffer(texture)");
     const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
                                           texture_buffer, options, layer_buffers);
-    const std::vector<cl::Event> after_filter{done};
-    detail::check(impl.queue.enqueueReadBuffer(texture_buffer, CL_TRUE, 0, texture_bytes, texture.words.data(),
-                                               &after_filter),
-                  "clEnqueueReadBuffer(texture)");
+    detail::read_after(impl, texture_buffer, texture_bytes, texture.words.data(), done, "clEnqueueReadBuffer(texture)");
     return texture;
 }
 
@@ -441,7 +438,8 @@ void filter(Context& context, const DeviceDepth& depth, const DeviceLayers& laye
             if (detail::buffer_size(buffer) < layer_bytes)
                 throw input_error(std::string("filter: the layer ") + what + " buffer holds " +
                                   std::to_string(detail::buffer_size(buffer)) + " bytes, " +
-                                  std::to_string(layers.count) + " layers of a " + describe_size(depth.width, depth.height, depth.samples) +
+                                  std::to_string(layers.count) + " layers of a " +
+                                  describe_size(depth.width, depth.height, depth.samples) +
                                   " map need " + std::to_string(layer_bytes));
         }
         layer_buffers = LayerBuffers{cl::Buffer(layers.depth, true), cl::Buffer(layers.opacity, true), layers.count};

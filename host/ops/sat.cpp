@@ -399,9 +399,7 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
                                          static_cast<int>(layers.size()), source, depth.width, depth.height,
                                          table_buffer, kernel);
     }
-    const std::vector<cl::Event> after_build{done};
-    detail::check(impl.queue.enqueueReadBuffer(table_buffer, CL_TRUE, 0, table_bytes, table.words.data(), &after_build),
-                  "clEnqueueReadBuffer(sat table)");
+    detail::read_after(impl, table_buffer, table_bytes, table.words.data(), done, "clEnqueueReadBuffer(sat table)");
     return table;
 }
 

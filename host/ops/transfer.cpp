@@ -34,6 +34,12 @@ std::vector<float> read_floats(ContextImpl& impl, const cl::Buffer& buffer, std:
     return values;
 }
 
+void read_after(ContextImpl& impl, const cl::Buffer& buffer, std::size_t bytes, void* out, const cl::Event& after,
+                const char* what) {
+    const std::vector<cl::Event> waits{after};
+    check(impl.queue.enqueueReadBuffer(buffer, CL_TRUE, 0, bytes, out, &waits), what);
+}
+
 std::vector<std::uint32_t> read_words(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count,
                                       const char* what) {
     std::vector<std::uint32_t> words(count);

@@ -23,6 +23,9 @@ cl::Buffer device_buffer(ContextImpl& impl, cl_mem_flags flags, std::size_t byte
 /// `count` floats (or 32-bit words) read from the start of `buffer`, blocking.
 std::vector<float> read_floats(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count,
                                const char* what = "clEnqueueReadBuffer");
+/// `bytes` bytes from the start of `buffer` into `out` once `after` has completed, blocking.
+void read_after(ContextImpl& impl, const cl::Buffer& buffer, std::size_t bytes, void* out, const cl::Event& after,
+                const char* what);
 std::vector<std::uint32_t> read_words(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count,
                                       const char* what = "clEnqueueReadBuffer");
 
