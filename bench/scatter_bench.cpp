@@ -8,6 +8,7 @@
 // first-launch compilation). Wall-clock medians and minima in milliseconds, and the median
 // CPU time of the process (all threads): on a shared machine the steadier figure of the work.
 #include "data/scatter/scatter_geometry.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>

@@ -7,7 +7,7 @@
 #include "bluenoise/void_and_cluster.hpp"
 
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <gtest/gtest.h>
 

@@ -170,6 +170,20 @@ static void test_host_filter(msmcl_context* context, const float* depth) {
         options.format = (msmcl_format)9;
         status = msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, codes, 8);
         CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT, "%s: %s", msmcl_status_name(status), msmcl_last_error_message());
+        /* Values outside every enum (any int can come from C) are argument errors; the library
+           reads them as integers (an ASan+UBSan build checks that no enum load sees them). */
+        options.format = MSMCL_FORMAT_NLQ64;
+        options.kernel = (msmcl_filter_kernel)-7;
+        status = msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, codes, 8);
+        CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "filter kernel -7"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+        options.kernel = MSMCL_FILTER_KERNEL_AUTOMATIC;
+        options.depth_range = (msmcl_depth_range)1000;
+        status = msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, codes, 8);
+        CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "depth range 1000"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+        CHECK(msmcl_texel_bytes((msmcl_format)-1) == 0 && msmcl_format_name((msmcl_format)1 << 20) == NULL,
+              "out-of-range formats");
         free(bad);
     }
     free(moments);

@@ -9,7 +9,7 @@
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <gtest/gtest.h>
 

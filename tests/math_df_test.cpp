@@ -1,7 +1,7 @@
 // Float-float toolkit (kernels/msm_df.clh) against long double, and the accurate shading of
 // the linear formats (kernels/msm_shading.clh: moments about their mean in float-float)
 // against the independent double reconstruction of host/reference. u = 2^-24 below.
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"
 #include "reference/moment_math.hpp"

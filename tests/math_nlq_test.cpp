@@ -1,7 +1,7 @@
 // Algorithm 2 + Algorithm 3 (kernels/msm_moments.clh, msm_shading.clh through
-// msmcl/shading.hpp, float32) against the independent double-precision generic 4MSM of
+// msmcl/device_math.hpp, float32) against the independent double-precision generic 4MSM of
 // host/reference/moment_math.*, plus the shifted-frame variant of Algorithm 2.
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"
 #include "reference/moment_math.hpp"

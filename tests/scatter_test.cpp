@@ -4,6 +4,7 @@
 // and the kernels on PoCL against that reference: resampling, prefix sums, quantized maps,
 // evaluation, ray marching, and the result against ray marching on the sample scenes.
 #include "data/scatter/scatter_geometry.hpp"
+#include "io/scene_json.hpp"
 #include "ops/scatter_params.hpp"
 #include "reference/filter_reference.hpp"
 #include "reference/scatter_reference.hpp"

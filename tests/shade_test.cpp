@@ -8,7 +8,7 @@
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <gtest/gtest.h>
 

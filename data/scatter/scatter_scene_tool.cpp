@@ -10,6 +10,7 @@
 #include "scatter_geometry.hpp"
 
 #include "io/exr_io.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>

@@ -6,12 +6,14 @@
 #include "cli/sat_commands.hpp"
 #include "cli/scatter_commands.hpp"
 #include "cli/suggestions.hpp"
+#include "io/atomic_file.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/version.hpp>
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <iostream>
 #include <new>
 #include <string>
@@ -46,6 +48,11 @@ int report(const std::string& problem, int exit_code) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // Ctrl-C or a kill while an output is written leaves no temporary file behind.
+    msmcl::io::remove_temporary_files_on_signals();
+    // Past the file size limit (ulimit -f) a write fails with EFBIG, reported like a full
+    // disk, instead of SIGXFSZ ending the process with its temporary file left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"msmcl: moment shadow maps on OpenCL (filter depth maps, shade receivers)", "msmcl"};
     app.set_version_flag("--version", std::string("msmcl ") + msmcl::version_string);
     app.require_subcommand(1);

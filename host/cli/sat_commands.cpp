@@ -9,6 +9,7 @@
 #include <msmcl/errors.hpp>
 #include <msmcl/sat.hpp>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>

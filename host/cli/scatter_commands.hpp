@@ -27,6 +27,7 @@ struct ScatterArguments {
     std::string jitter = "0";
     std::string rectified;   ///< optional EXR of the resampled moments
     std::string prefix_sums; ///< optional EXR of the stored (quantized) prefix sums
+    std::string map;         ///< optional KTX2 of the prefiltered map, as a renderer uploads it
     CLI::App* command = nullptr;
 };
 

@@ -6,9 +6,7 @@
 // no time stamps, attributes only as given.
 #pragma once
 
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/shade.hpp>
+#include <msmcl/types.hpp>
 
 #include <cstdint>
 #include <string>

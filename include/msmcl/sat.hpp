@@ -18,9 +18,7 @@
 
 #include <msmcl/context.hpp>
 #include <msmcl/enqueue.hpp>
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/types.hpp>
 
 #include <array>
 #include <cstdint>
@@ -36,40 +34,6 @@ inline constexpr std::uint32_t sat_max_kernel_texels = 0x7fffffffu;
 /// floor((2^32 - 1) / N). Throws input_error for N outside
 /// [sat_min_kernel_texels, sat_max_kernel_texels].
 std::uint32_t sat_scale(std::uint32_t max_kernel_texels);
-
-/// Which kernels build the table. All give the same bits. The tiled scans read the input
-/// twice (totals, then the scan) and write the table once; the carries in between are
-/// prefix sums over 1/16 to 1/32 of the texels.
-enum class SatKernel {
-    automatic,      ///< tiled_gpu on GPUs, tiled_cpu elsewhere
-    tiled_gpu,      ///< 32x32 tiles in local memory; work-items walk tile columns, then tile rows
-                    ///< (one add per texel and direction, conflict-free padded rows)
-    tiled_cpu,      ///< bands of 32 full rows, one work-item each, 16 columns at a time in 16-lane
-                    ///< vectors: column walks, then four shuffle-and-add steps across the lanes
-                    ///< (what PoCL's CPU device runs well)
-    row_per_thread, ///< the papers' baseline: one work-item per row, then one per column
-};
-
-struct SatOptions {
-    /// N: texels of the largest rectangle that will ever be queried (27 x 27 = 729 by default).
-    std::uint32_t max_kernel_texels = 27 * 27;
-    DepthRange depth_range = DepthRange::zero_one;
-    SatKernel kernel = SatKernel::automatic;
-};
-
-/// A table in host memory.
-struct SatTable {
-    int width = 0;
-    int height = 0;
-    std::uint32_t max_kernel_texels = 0; ///< N
-    std::uint32_t scale = 0;             ///< sat_scale(N)
-    /// 4 words per texel (channels R, G, B, A), row-major, rows top to bottom.
-    std::vector<std::uint32_t> words;
-
-    const std::uint32_t* texel(int x, int y) const {
-        return words.data() + 4 * (static_cast<std::size_t>(y) * width + x);
-    }
-};
 
 /// Builds the table of a host depth map. Validates like filter(): size, sample count (1, 2,
 /// 4, 8, 16), every depth finite and inside the range (input_error names the first bad
@@ -123,14 +87,6 @@ struct SatRectangle {
 /// Throws input_error when the rectangle is empty, not finite, leaves [0, width] x
 /// [0, height], or one of its 3x3 sub-rectangles holds more than N texels.
 Moments4 sat_interpolated_moments(const SatTable& table, const SatRectangle& rectangle);
-
-/// A table already on the device: a buffer with 4 uint32 per texel, layout as SatTable.
-struct DeviceSat {
-    cl_mem buffer = nullptr;
-    int width = 0;
-    int height = 0;
-    std::uint32_t max_kernel_texels = 0; ///< N the table was built for
-};
 
 /// Device queries: `rectangles` holds 4 floats per query (left, top, right, bottom);
 /// `moments` receives 4 floats per query (b1..b4, as sat_interpolated_moments). A

@@ -16,9 +16,7 @@
 
 #include <msmcl/context.hpp>
 #include <msmcl/enqueue.hpp>
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/shade.hpp>
+#include <msmcl/types.hpp>
 
 #include <array>
 #include <cstdint>
@@ -82,11 +80,6 @@ struct ScatterScene {
     double guard_band = 0.05;   ///< extra share of the inclination range on each side, in [0, 1]
 };
 
-/// Parses a scene from JSON text (nlohmann-json). Throws input_error naming the key, with
-/// line and column for malformed JSON; validates like validate_scatter_scene.
-ScatterScene parse_scatter_scene(const std::string& json_text);
-/// Reads and parses a scene file; errors read "<path>: <problem>".
-ScatterScene load_scatter_scene(const std::string& path);
 /// Throws input_error for anything unusable: zero, negative or non-finite extinction,
 /// degenerate axes, fov outside (0, 180), near/far, sizes, g outside (-1, 1).
 void validate_scatter_scene(const ScatterScene& scene);
