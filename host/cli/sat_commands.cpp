@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 
 namespace msmcl::cli {
 namespace {
@@ -21,6 +22,47 @@ namespace {
 // Library input errors do not know the file; put it in front.
 [[noreturn]] void rethrow_with_file(const std::string& path, const input_error& e) {
     throw input_error(path + ": " + e.what());
+}
+
+/// build_sat() split into the stages --verbose reports after "program": the upload, the
+/// kernels, the download. Same words as build_sat(context, depth, layers, options).
+SatTable build_sat_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
+                             const SatOptions& options) {
+    const DepthImage& depth = layered.depth;
+    const std::size_t layer_count = layered.layers.size();
+    std::vector<float> layer_depth, layer_opacity;
+    for (const TranslucentLayer& layer : layered.layers) {
+        layer_depth.insert(layer_depth.end(), layer.depth.begin(), layer.depth.end());
+        layer_opacity.insert(layer_opacity.end(), layer.opacity.begin(), layer.opacity.end());
+    }
+    std::unique_ptr<DeviceBuffer> depth_buffer, layer_depth_buffer, layer_opacity_buffer;
+    stages.run("upload", [&] {
+        depth_buffer = std::make_unique<DeviceBuffer>(context, depth.depth.size() * sizeof(float), depth.depth.data());
+        if (layer_count > 0) {
+            layer_depth_buffer =
+                std::make_unique<DeviceBuffer>(context, layer_depth.size() * sizeof(float), layer_depth.data());
+            layer_opacity_buffer =
+                std::make_unique<DeviceBuffer>(context, layer_opacity.size() * sizeof(float), layer_opacity.data());
+        }
+        context.finish();
+    });
+    SatTable table;
+    table.width = depth.width;
+    table.height = depth.height;
+    table.max_kernel_texels = options.max_kernel_texels;
+    table.scale = sat_scale(options.max_kernel_texels);
+    table.words.resize(4 * static_cast<std::size_t>(depth.width) * depth.height);
+    DeviceBuffer table_buffer(context, table.words.size() * sizeof(std::uint32_t));
+    stages.run("kernel", [&] {
+        const DeviceDepth device_depth{depth_buffer->get(), depth.width, depth.height, depth.samples};
+        DeviceLayers device_layers;
+        if (layer_count > 0)
+            device_layers = {layer_depth_buffer->get(), layer_opacity_buffer->get(), static_cast<int>(layer_count)};
+        build_sat(context, device_depth, device_layers, table_buffer.get(), options);
+        context.finish();
+    });
+    stages.run("download", [&] { table_buffer.read(context, table.words.data()); });
+    return table;
 }
 
 } // namespace
@@ -95,7 +137,7 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
     options.depth_range = parse_depth_range_option(arguments.depth_range);
     const Container container = output_container(arguments.out_container, arguments.output);
 
-    Stages stages(global.verbose, global.verbose ? 5 : 4);
+    Stages stages(global.verbose, global.verbose ? 7 : 4);
 
     // Read and validate the depth map (and its translucent layers), build the table on the device.
     const io::TranslucentDepth layered =
@@ -115,8 +157,10 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
         });
     SatTable table;
     try {
-        table = stages.run("table build (upload, kernels, download)",
-                           [&] { return build_sat(context, depth, layered.layers, options); });
+        if (stages.verbose())
+            table = build_sat_in_stages(stages, context, layered, options);
+        else
+            table = stages.run("table build", [&] { return build_sat(context, depth, layered.layers, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.input, e);
     }
