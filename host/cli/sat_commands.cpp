@@ -65,6 +65,44 @@ SatTable build_sat_in_stages(Stages& stages, Context& context, const io::Translu
     return table;
 }
 
+/// soft_shade() split into stages: the program (a warm-up on one receiver), the upload, the
+/// kernel, the download. Same intensities as soft_shade(context, table, receivers, options).
+std::vector<float> soft_shade_in_stages(Stages& stages, Context& context, const SatTable& table,
+                                        const Receivers& receivers, const SoftShadowOptions& options) {
+    stages.run("program", [&] {
+        const std::size_t built = context.programs_built();
+        Receivers one;
+        one.u = {0.5f};
+        one.v = {0.5f};
+        one.z = {options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f};
+        soft_shade(context, table, one, options);
+        const std::size_t now = context.programs_built() - built;
+        stages.note((now == 0 ? std::string("cache hit") : std::to_string(now) + " programs built") +
+                    ", warm-up on one receiver");
+    });
+    const std::size_t count = receivers.size();
+    std::vector<float> uvz;
+    uvz.reserve(3 * count);
+    for (const std::vector<float>* plane : {&receivers.u, &receivers.v, &receivers.z})
+        uvz.insert(uvz.end(), plane->begin(), plane->end());
+    std::unique_ptr<DeviceBuffer> table_buffer, uvz_buffer;
+    stages.run("upload", [&] {
+        table_buffer =
+            std::make_unique<DeviceBuffer>(context, table.words.size() * sizeof(std::uint32_t), table.words.data());
+        uvz_buffer = std::make_unique<DeviceBuffer>(context, uvz.size() * sizeof(float), uvz.data());
+        context.finish();
+    });
+    std::vector<float> intensity(count);
+    DeviceBuffer intensity_buffer(context, count * sizeof(float));
+    stages.run("kernel", [&] {
+        const DeviceSat device_table{table_buffer->get(), table.width, table.height, table.max_kernel_texels};
+        soft_shade(context, device_table, uvz_buffer->get(), count, intensity_buffer.get(), options);
+        context.finish();
+    });
+    stages.run("download", [&] { intensity_buffer.read(context, intensity.data()); });
+    return intensity;
+}
+
 } // namespace
 
 void add_sat_commands(CLI::App& app, SatCommands& commands) {
@@ -191,7 +229,7 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
 
     // Read the table (EXR, KTX2 or DDS) and the receivers; limits that depend on the table's
     // N are checked here.
-    Stages stages(global.verbose, 5);
+    Stages stages(global.verbose, global.verbose ? 8 : 5);
     const io::SatFile table = stages.run("read table", [&] { return read_sat_file(arguments.table, max_kernel); });
     const io::ReceiverGrid receivers =
         stages.run("read receivers", [&] { return io::read_receivers_exr(arguments.receivers); });
@@ -207,8 +245,11 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> intensity;
     try {
-        intensity = stages.run("soft shadows (program, upload, kernel, download)",
-                               [&] { return soft_shade(context, table.table, receivers.points, options); });
+        if (stages.verbose())
+            intensity = soft_shade_in_stages(stages, context, table.table, receivers.points, options);
+        else
+            intensity = stages.run("soft shadows",
+                                   [&] { return soft_shade(context, table.table, receivers.points, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.receivers, e);
     }
