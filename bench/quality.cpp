@@ -495,6 +495,61 @@ Scene parse_scene(const std::string& spec) {
     return {parts[0], parts[1], parts[2], parts.size() == 4 ? parts[3] : ""};
 }
 
+/// The scenes to measure: the 1024^2 ones of the build's data directory (--large), else the
+/// committed sample data (materials made by the build, when there), plus every --scene.
+/// Throws input_error naming a missing file.
+std::vector<Scene> scenes_to_measure(const std::vector<std::string>& scene_specs, bool large,
+                                     const std::string& data_dir, const std::string& build_data_dir) {
+    std::vector<Scene> scenes;
+    if (large) {
+        scenes.push_back({"railing", build_data_dir + "/railing_1024x1024_8x.exr",
+                          build_data_dir + "/railing_view_640x480.exr",
+                          build_data_dir + "/railing_view_640x480_materials.exr"});
+        scenes.push_back({"wuson", build_data_dir + "/wuson_1024x1024_4x.exr",
+                          build_data_dir + "/wuson_view_640x480.exr", ""});
+    } else if (scene_specs.empty()) {
+        std::string materials = build_data_dir + "/railing_view_160x120_materials.exr";
+        if (!std::filesystem::exists(materials)) {
+            std::cerr << "msmcl-quality: no " << materials
+                      << " (cmake --build BUILD --target msmcl_sample_materials): no banner leak figure\n";
+            materials.clear();
+        }
+        scenes.push_back({"railing", data_dir + "/railing_256x256_4x.exr", data_dir + "/railing_view_160x120.exr",
+                          materials});
+        scenes.push_back({"wuson", data_dir + "/wuson_256x256_4x.exr", data_dir + "/wuson_view_160x120.exr", ""});
+    }
+    for (const std::string& spec : scene_specs) scenes.push_back(parse_scene(spec));
+    for (const Scene& scene : scenes)
+        for (const std::string& path : {scene.depth_path, scene.receivers_path, scene.materials_path})
+            if (!path.empty() && !std::filesystem::exists(path))
+                throw msmcl::input_error(path + ": no such file" +
+                                         (large ? " (cmake --build BUILD --target msmcl_sample_data)" : ""));
+    return scenes;
+}
+
+/// What one scene's files hold.
+struct SceneInputs {
+    msmcl::DepthImage depth;       ///< [0,1] convention
+    msmcl::io::ReceiverGrid grid;  ///< the view's receivers
+    std::vector<float> materials;  ///< channel M per receiver, or empty
+};
+
+SceneInputs load_scene(const Scene& scene) {
+    SceneInputs inputs;
+    inputs.depth = msmcl::io::read_depth_exr(scene.depth_path, msmcl::DepthRange::zero_one);
+    inputs.grid = msmcl::io::read_receivers_exr(scene.receivers_path);
+    if (!scene.materials_path.empty()) {
+        const msmcl::io::ExrImage image = msmcl::io::read_exr(scene.materials_path);
+        const msmcl::io::ExrChannel* channel = image.find_channel("M");
+        if (!channel || image.width != inputs.grid.width || image.height != inputs.grid.height)
+            throw msmcl::input_error(scene.materials_path + ": wants a channel M on the receivers' " +
+                                     std::to_string(inputs.grid.width) + "x" + std::to_string(inputs.grid.height) +
+                                     " grid");
+        inputs.materials = channel->values;
+    }
+    return inputs;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -528,31 +583,8 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     try {
-        // The scenes: the committed sample data (materials made by the build) unless given.
-        std::vector<Scene> scenes;
-        if (large) {
-            scenes.push_back({"railing", build_data_dir + "/railing_1024x1024_8x.exr",
-                              build_data_dir + "/railing_view_640x480.exr",
-                              build_data_dir + "/railing_view_640x480_materials.exr"});
-            scenes.push_back({"wuson", build_data_dir + "/wuson_1024x1024_4x.exr",
-                              build_data_dir + "/wuson_view_640x480.exr", ""});
-        } else if (scene_specs.empty()) {
-            std::string materials = build_data_dir + "/railing_view_160x120_materials.exr";
-            if (!std::filesystem::exists(materials)) {
-                std::cerr << "msmcl-quality: no " << materials
-                          << " (cmake --build BUILD --target msmcl_sample_materials): no banner leak figure\n";
-                materials.clear();
-            }
-            scenes.push_back({"railing", data_dir + "/railing_256x256_4x.exr", data_dir + "/railing_view_160x120.exr",
-                              materials});
-            scenes.push_back({"wuson", data_dir + "/wuson_256x256_4x.exr", data_dir + "/wuson_view_160x120.exr", ""});
-        }
-        for (const std::string& spec : scene_specs) scenes.push_back(parse_scene(spec));
-        for (const Scene& scene : scenes)
-            for (const std::string& path : {scene.depth_path, scene.receivers_path, scene.materials_path})
-                if (!path.empty() && !std::filesystem::exists(path))
-                    throw msmcl::input_error(path + ": no such file" +
-                                             (large ? " (cmake --build BUILD --target msmcl_sample_data)" : ""));
+        // Load: the scenes (the committed sample data, materials made by the build, unless given).
+        const std::vector<Scene> scenes = scenes_to_measure(scene_specs, large, data_dir, build_data_dir);
         if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
 
         msmcl::DeviceSelection selection;
@@ -578,20 +610,13 @@ int main(int argc, char** argv) {
                      "full colour at |error| >= 0.1.\n\n";
 
         for (const Scene& scene : scenes) {
-            // Inputs: the depth map ([0,1] convention), the view's receivers, their materials.
-            const msmcl::DepthImage depth = msmcl::io::read_depth_exr(scene.depth_path, msmcl::DepthRange::zero_one);
-            const msmcl::io::ReceiverGrid grid = msmcl::io::read_receivers_exr(scene.receivers_path);
+            // Load: the depth map ([0,1] convention), the view's receivers, their materials.
+            const SceneInputs inputs = load_scene(scene);
+            const msmcl::DepthImage& depth = inputs.depth;
+            const msmcl::io::ReceiverGrid& grid = inputs.grid;
             const msmcl::Receivers& receivers = grid.points;
             const std::size_t count = receivers.size();
-            std::vector<float> materials;
-            if (!scene.materials_path.empty()) {
-                const msmcl::io::ExrImage image = msmcl::io::read_exr(scene.materials_path);
-                const msmcl::io::ExrChannel* channel = image.find_channel("M");
-                if (!channel || image.width != grid.width || image.height != grid.height)
-                    throw msmcl::input_error(scene.materials_path + ": wants a channel M on the receivers' " +
-                                             std::to_string(grid.width) + "x" + std::to_string(grid.height) + " grid");
-                materials = channel->values;
-            }
+            const std::vector<float>& materials = inputs.materials;
 
             // Ground truth per receiver (receiver planes, and a constant depth for comparison);
             // how far the samples each lookup filters stray from the receiver's plane.
