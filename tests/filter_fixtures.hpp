@@ -4,6 +4,7 @@
 #pragma once
 
 #include "reference/filter_reference.hpp"
+#include "runtime/tuning.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -115,19 +116,11 @@ inline ref::Nlq algorithm2_shifted(const ref::Moments& biased_shifted, double c)
 }
 
 // Tile of the CPU distribution (kernels/filter_fused_cpu.cl): host/ops/filter.cpp's
-// kCpuTileWidth x kCpuTileHeight unless MSMCL_CPU_TILE ("WxH") overrides it, parsed the
-// same way.
+// kCpuTileWidth x kCpuTileHeight unless MSMCL_CPU_TILE ("WxH") overrides it, read by the
+// library's one reader of tuning overrides (host/runtime/tuning.hpp).
 inline std::array<int, 2> cpu_tile() {
-    std::array<int, 2> tile{128, 64};
-    if (const char* text = std::getenv("MSMCL_CPU_TILE")) {
-        int width = 0, height = 0;
-        char separator = 0;
-        std::istringstream in(text);
-        if (in >> width >> separator >> height && separator == 'x' && width >= 8 && width <= 1024 && height >= 1 &&
-            height <= 1024)
-            tile = {width, height};
-    }
-    return tile;
+    if (const auto tile = msmcl::detail::cpu_filter_tile_override(8)) return {tile->width, tile->height};
+    return {128, 64};
 }
 
 // Shift c of a kernel per texel, in float32 as the kernel computes it from the internal
