@@ -1,6 +1,7 @@
 // scatter: rectification bounds, the kernel parameter block, and the device operations of
 // prefiltered single scattering (kernels/scatter.cl).
 #include "ops/scatter_params.hpp"
+#include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
@@ -313,23 +314,20 @@ struct RowTiling {
     int segment = 8;
 };
 
-RowTiling row_tiling(const detail::ContextImpl& impl) {
+RowTiling row_tiling(const DeviceInfo& device) {
     RowTiling tiling;
-    if (impl.info.is_gpu) {
+    if (device.is_gpu) {
         tiling.group = 128;
         tiling.segment = 2;
     }
-    while (tiling.group > 1 && static_cast<std::size_t>(tiling.group) > impl.info.max_work_group_size) tiling.group /= 2;
+    while (tiling.group > 1 && static_cast<std::size_t>(tiling.group) > device.max_work_group_size) tiling.group /= 2;
     return tiling;
 }
 
+RowTiling row_tiling(const detail::ContextImpl& impl) { return row_tiling(impl.info); }
+
 cl::Kernel& scatter_kernel(detail::ContextImpl& impl, int moments, const char* name) {
-    const RowTiling tiling = row_tiling(impl);
-    return impl.kernel("scatter.cl",
-                       {"MSM_SCATTER_MOMENTS=" + std::to_string(moments),
-                        "MSM_SCATTER_GROUP=" + std::to_string(tiling.group),
-                        "MSM_SCATTER_SEGMENT=" + std::to_string(tiling.segment)},
-                       name);
+    return impl.kernel("scatter.cl", detail::scatter_defines(moments, impl.info), name);
 }
 
 void check_map_fits(const detail::ContextImpl& impl, const ScatterScene& scene, std::size_t bytes_per_texel) {
@@ -491,6 +489,16 @@ std::size_t rectified_texels(const ScatterScene& scene) {
 }
 
 } // namespace
+
+namespace detail {
+
+std::vector<std::string> scatter_defines(int moments, const DeviceInfo& device) {
+    const RowTiling tiling = row_tiling(device);
+    return {"MSM_SCATTER_MOMENTS=" + std::to_string(moments), "MSM_SCATTER_GROUP=" + std::to_string(tiling.group),
+            "MSM_SCATTER_SEGMENT=" + std::to_string(tiling.segment)};
+}
+
+} // namespace detail
 
 void validate_scatter_inputs(const ScatterScene& scene, const DepthImage& shadow_map,
                              const std::vector<float>& camera_depth) {

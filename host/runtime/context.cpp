@@ -14,7 +14,7 @@ cl::Kernel& ContextImpl::kernel(const std::string& source_file, const std::vecto
                                 const std::string& kernel_name) {
     // The assembled source is cached per (file, defines): no assembly or hashing per launch.
     const KernelSource& source = kernel_source(source_file, defines);
-    std::string options = "-cl-std=CL1.2";
+    std::string options = base_build_options;
     if (const std::string quirk = device_build_options(info); !quirk.empty()) options += ' ' + quirk;
     {
         const std::lock_guard<std::mutex> lock(mutex_);

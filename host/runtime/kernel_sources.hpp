@@ -30,4 +30,7 @@ struct KernelSource {
 /// the reference stays valid until the process ends.
 const KernelSource& kernel_source(std::string_view name, const std::vector<std::string>& defines);
 
+/// Build options of every program, before a device's own (quirks.hpp) and the caller's.
+inline constexpr const char* base_build_options = "-cl-std=CL1.2";
+
 } // namespace msmcl::detail
