@@ -31,7 +31,7 @@
 #include <msmcl/sat.hpp>
 #include <msmcl/scatter.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <CLI/CLI.hpp>
 

@@ -11,7 +11,7 @@
 
 #include <msmcl/errors.hpp>
 #include <msmcl/scatter.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <nlohmann/json.hpp>
 

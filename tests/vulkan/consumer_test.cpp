@@ -17,7 +17,7 @@
 #include "kernels/msm_scatter.clh"
 #include "kernels/msm_shading.clh"
 
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <gtest/gtest.h>
 
