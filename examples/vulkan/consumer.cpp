@@ -24,6 +24,7 @@
 #include "io/gpu_image.hpp"
 #include "io/ktx2.hpp"
 #include "io/png_io.hpp"
+#include "io/scene_json.hpp"
 #include "ops/scatter_params.hpp"
 
 #include <msmcl/errors.hpp>

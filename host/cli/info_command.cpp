@@ -9,6 +9,7 @@
 #include "io/gpu_image.hpp"
 #include "io/ktx2.hpp"
 #include "io/sat_exr.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/scatter.hpp>
