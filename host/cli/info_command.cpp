@@ -5,7 +5,6 @@
 #include "io/atomic_file.hpp"
 #include "io/dds.hpp"
 #include "io/exr_io.hpp"
-#include "io/scene_json.hpp"
 #include "io/gpu_image.hpp"
 #include "io/ktx2.hpp"
 #include "io/sat_exr.hpp"
