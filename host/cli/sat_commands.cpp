@@ -23,7 +23,7 @@ namespace {
 } // namespace
 
 void add_sat_commands(CLI::App& app, SatCommands& commands) {
-    // msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range R]
+    // msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range R] [--kernel K]
     SatArguments& sat = commands.sat;
     CLI::App* sat_command = app.add_subcommand(
         "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, UINT R,G,B,A)");
@@ -37,6 +37,12 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     sat_command->add_option("--depth-range", sat.depth_range, "depth convention of the input: 0,1 or -1,1")
         ->capture_default_str()
         ->type_name("RANGE");
+    sat_command->add_option("--kernel", sat.kernel,
+                            "automatic (by the device's type), tiled_gpu (32x32 tiles in local memory), tiled_cpu "
+                            "(bands of 32 rows, one work-item each) or row_per_thread (the papers' baseline); all "
+                            "give the same table")
+        ->capture_default_str()
+        ->type_name("KERNEL");
     commands.sat_command = sat_command;
 
     // msmcl soft SAT.exr RECEIVERS.exr OUT.exr --light-size L [--search-size K] ...
@@ -84,6 +90,11 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
     options.max_kernel_texels = static_cast<std::uint32_t>(
         parse_integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
     options.depth_range = parse_depth_range_option(arguments.depth_range);
+    const std::optional<SatKernel> kernel = parse_sat_kernel(arguments.kernel);
+    if (!kernel)
+        throw usage_error("unknown --kernel '" + arguments.kernel +
+                          "' (expected automatic, tiled_gpu, tiled_cpu or row_per_thread)");
+    options.kernel = *kernel;
 
     // Read and validate the depth map (and its translucent layers), build the table on the device.
     const io::TranslucentDepth layered = io::read_translucent_depth_exr(arguments.input, options.depth_range);

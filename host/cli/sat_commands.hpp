@@ -1,5 +1,5 @@
 // The summed-area table subcommands of msmcl (SPEC section 5):
-//   msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range 0,1|-1,1]
+//   msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range 0,1|-1,1] [--kernel K]
 //   msmcl soft SAT.exr RECEIVERS.exr OUT.exr --light-size L [--search-size K]
 //              [--min-filter F] [--depth-bias B] [--depth-range R]
 // As the other subcommands: options are checked before any file is touched, inputs are
@@ -19,6 +19,7 @@ struct SatArguments {
     std::string output;
     std::string max_kernel = "729";
     std::string depth_range = "0,1";
+    std::string kernel = "automatic"; ///< automatic, tiled_gpu, tiled_cpu or row_per_thread
 };
 
 struct SoftArguments {

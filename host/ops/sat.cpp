@@ -2,6 +2,7 @@
 // table queries on host (kernels/msm_sat.clh compiled as C++) and device (sat_query.cl).
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/work_distribution.hpp"
 
 #include "kernels/msm_sat.clh"
 
@@ -317,10 +318,11 @@ cl::Event enqueue_translucent_build(detail::ContextImpl& impl, const cl::Command
                          table, kernel);
 }
 
-// automatic: the GPU distribution on GPUs, the CPU one elsewhere.
+// automatic: the CPU distribution on CPUs that are not GPUs, the GPU one elsewhere
+// (work_distribution.hpp).
 SatKernel resolve_kernel(const DeviceInfo& device, SatKernel kernel) {
     if (kernel != SatKernel::automatic) return kernel;
-    return device.is_gpu ? SatKernel::tiled_gpu : SatKernel::tiled_cpu;
+    return detail::prefers_gpu_distribution(device) ? SatKernel::tiled_gpu : SatKernel::tiled_cpu;
 }
 
 // A host table must be what build_sat produces.
@@ -561,6 +563,26 @@ void sat_query_moments(Context& context, const DeviceSat& table, cl_mem rectangl
     launch(queue, kernel, cl::NDRange((count + group - 1) / group * group), cl::NDRange(group), waits, done,
            "clEnqueueNDRangeKernel(sat_query_moments)");
     detail::complete(enqueue, queue, done);
+}
+
+const char* sat_kernel_name(SatKernel kernel) noexcept {
+    switch (kernel) {
+        case SatKernel::automatic: return "automatic";
+        case SatKernel::tiled_gpu: return "tiled_gpu";
+        case SatKernel::tiled_cpu: return "tiled_cpu";
+        case SatKernel::row_per_thread: return "row_per_thread";
+    }
+    return "unknown";
+}
+
+std::optional<SatKernel> parse_sat_kernel(std::string_view name) noexcept {
+    for (SatKernel kernel : {SatKernel::automatic, SatKernel::tiled_gpu, SatKernel::tiled_cpu, SatKernel::row_per_thread})
+        if (name == sat_kernel_name(kernel)) return kernel;
+    return std::nullopt;
+}
+
+SatKernel sat_kernel_for(const Context& context, SatKernel requested) {
+    return resolve_kernel(context.device(), requested);
 }
 
 } // namespace msmcl

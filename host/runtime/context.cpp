@@ -24,7 +24,7 @@ cl::Kernel& ContextImpl::kernel(const std::string& source_file, const std::vecto
     source += "#line 1\n";
     source += assemble_kernel_source(source_file);
     std::string options = "-cl-std=CL1.2";
-    if (const std::string quirk = device_build_options(info); !quirk.empty()) options += ' ' + quirk;
+    if (const std::string quirk = device_build_options(info, source_file); !quirk.empty()) options += ' ' + quirk;
     if (!extra_build_options.empty()) options += ' ' + extra_build_options;
     return programs.kernel(context, device, source_file, source, options, kernel_name);
 }

@@ -6,6 +6,8 @@
 #include <msmcl/formats.hpp>
 
 #include <array>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace msmcl {
@@ -21,8 +23,16 @@ enum class FilterKernel {
                  ///< OpenCL compiler vectorizes across work-items, one work-item per texel
                  ///< column of a 128x64 tile whose rows are streamed; nlq formats shift per
                  ///< tile (environment MSMCL_CPU_TILE="WxH" changes the tile). `automatic`
-                 ///< picks it on CPU devices, fused_paper on the others
+                 ///< picks it on devices that report CPU and not GPU, fused_paper on the
+                 ///< others (docs/devices.md)
 };
+/// "automatic", "fused_paper", "three_pass", "fused_cpu".
+const char* filter_kernel_name(FilterKernel kernel) noexcept;
+std::optional<FilterKernel> parse_filter_kernel(std::string_view name) noexcept;
+/// The kernel a filter call with `requested` runs on the context's device: `automatic`
+/// resolved, an explicit choice returned as is. Throws device_error when the device
+/// cannot run the choice (too few work-items per group or too little local memory).
+FilterKernel filter_kernel_for(const Context& context, FilterKernel requested);
 
 struct FilterOptions {
     Format format = Format::nlq64;

@@ -24,6 +24,8 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace msmcl {
@@ -41,7 +43,8 @@ std::uint32_t sat_scale(std::uint32_t max_kernel_texels);
 /// twice (totals, then the scan) and write the table once; the carries in between are
 /// prefix sums over 1/16 to 1/32 of the texels.
 enum class SatKernel {
-    automatic,      ///< tiled_gpu on GPUs, tiled_cpu elsewhere
+    automatic,      ///< tiled_cpu on devices that report CPU and not GPU, tiled_gpu on the
+                    ///< others (docs/devices.md)
     tiled_gpu,      ///< 32x32 tiles in local memory; work-items walk tile columns, then tile rows
                     ///< (one add per texel and direction, conflict-free padded rows)
     tiled_cpu,      ///< bands of 32 full rows, one work-item each, 16 columns at a time in 16-lane
@@ -49,6 +52,13 @@ enum class SatKernel {
                     ///< (what PoCL's CPU device runs well)
     row_per_thread, ///< the papers' baseline: one work-item per row, then one per column
 };
+
+/// "automatic", "tiled_gpu", "tiled_cpu", "row_per_thread".
+const char* sat_kernel_name(SatKernel kernel) noexcept;
+std::optional<SatKernel> parse_sat_kernel(std::string_view name) noexcept;
+/// The kernel a table build with `requested` runs on the context's device (`automatic`
+/// resolved).
+SatKernel sat_kernel_for(const Context& context, SatKernel requested);
 
 struct SatOptions {
     /// N: texels of the largest rectangle that will ever be queried (27 x 27 = 729 by default).
