@@ -8,6 +8,7 @@ packages=(
   libopenexr-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   glslang-tools
+  oclgrind
   assimp-testmodels
 )
 

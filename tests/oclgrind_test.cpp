@@ -137,6 +137,63 @@ std::string word_differences(const std::vector<std::uint32_t>& oclgrind, const s
            text.str();
 }
 
+/// A bit field of a word and how far Oclgrind's value may be from PoCL's.
+struct Field {
+    int shift;
+    int bits;
+    std::uint32_t tolerance;
+};
+
+/// Names the words whose fields differ by more than their tolerance; empty when none does.
+/// Lists how many words differ at all.
+std::string field_differences(const std::vector<std::uint32_t>& oclgrind, const std::vector<std::uint32_t>& pocl,
+                              const std::vector<std::vector<Field>>& fields_by_word) {
+    if (oclgrind.size() != pocl.size())
+        return "sizes differ: " + std::to_string(oclgrind.size()) + " vs " + std::to_string(pocl.size());
+    std::ostringstream text;
+    std::size_t beyond = 0, differing = 0;
+    for (std::size_t i = 0; i < oclgrind.size(); ++i) {
+        if (oclgrind[i] == pocl[i]) continue;
+        ++differing;
+        for (const Field& field : fields_by_word[i % fields_by_word.size()]) {
+            const std::uint32_t mask = field.bits == 32 ? 0xffffffffu : (1u << field.bits) - 1u;
+            const std::int64_t a = (oclgrind[i] >> field.shift) & mask, b = (pocl[i] >> field.shift) & mask;
+            if (std::llabs(a - b) <= field.tolerance) continue;
+            if (++beyond <= 8)
+                text << " [word " << i << " bits " << field.shift << ".." << field.shift + field.bits - 1 << ": " << a
+                     << " vs " << b << "]";
+        }
+    }
+    std::printf("  %zu of %zu words differ (Oclgrind vs PoCL), %zu beyond the tolerance\n", differing, oclgrind.size(),
+                beyond);
+    if (beyond == 0) return "";
+    return std::to_string(beyond) + " fields differ beyond their tolerance:" + text.str();
+}
+
+/// Names the values further apart than `tolerance`; prints the largest difference.
+std::string float_differences(const std::vector<std::uint32_t>& oclgrind_bits, const std::vector<std::uint32_t>& pocl_bits,
+                              double tolerance) {
+    if (oclgrind_bits.size() != pocl_bits.size())
+        return "sizes differ: " + std::to_string(oclgrind_bits.size()) + " vs " + std::to_string(pocl_bits.size());
+    std::ostringstream text;
+    std::size_t beyond = 0, differing = 0;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < oclgrind_bits.size(); ++i) {
+        if (oclgrind_bits[i] == pocl_bits[i]) continue;
+        ++differing;
+        float a, b;
+        std::memcpy(&a, &oclgrind_bits[i], 4);
+        std::memcpy(&b, &pocl_bits[i], 4);
+        const double difference = std::isnan(a) || std::isnan(b) ? INFINITY : std::fabs(double(a) - double(b));
+        largest = std::max(largest, difference);
+        if (difference > tolerance && ++beyond <= 8) text << " [" << i << ": " << a << " vs " << b << "]";
+    }
+    std::printf("  %zu of %zu values differ (Oclgrind vs PoCL), by at most %.3g\n", differing, oclgrind_bits.size(),
+                largest);
+    if (beyond == 0) return "";
+    return std::to_string(beyond) + " values differ by more than " + std::to_string(tolerance) + ":" + text.str();
+}
+
 std::vector<std::uint32_t> bits_of(const std::vector<float>& values) {
     std::vector<std::uint32_t> words(values.size());
     if (!values.empty()) std::memcpy(words.data(), values.data(), values.size() * sizeof(float));
@@ -200,14 +257,51 @@ protected:
         return work(*pocl_);
     }
 
+    using Work = std::function<std::vector<std::uint32_t>(Context&)>;
+
     /// Both, and the outputs (as 32-bit words) equal bit for bit.
-    void expect_identical(const std::string& what,
-                          const std::function<std::vector<std::uint32_t>(Context&)>& work,
-                          std::size_t words_per_item = 1) {
+    void expect_identical(const std::string& what, const Work& work, std::size_t words_per_item = 1) {
         const auto oclgrind = on_oclgrind<std::vector<std::uint32_t>>(what, work);
         const auto pocl = on_pocl<std::vector<std::uint32_t>>(work);
         ASSERT_FALSE(pocl.empty()) << what;
         EXPECT_EQ(word_differences(oclgrind, pocl, words_per_item), "") << what << " (seed " << seed_ << ")";
+    }
+
+    /// Both, and every field of the outputs within its tolerance (`fields_by_word` per word
+    /// of an item, cyclically).
+    void expect_fields_close(const std::string& what, const Work& work,
+                             const std::vector<std::vector<Field>>& fields_by_word) {
+        const auto oclgrind = on_oclgrind<std::vector<std::uint32_t>>(what, work);
+        const auto pocl = on_pocl<std::vector<std::uint32_t>>(work);
+        ASSERT_FALSE(pocl.empty()) << what;
+        std::printf("%s:\n", what.c_str());
+        EXPECT_EQ(field_differences(oclgrind, pocl, fields_by_word), "") << what << " (seed " << seed_ << ")";
+    }
+
+    /// Both, and the float outputs at most `tolerance` apart.
+    void expect_floats_close(const std::string& what, const Work& work, double tolerance) {
+        const auto oclgrind = on_oclgrind<std::vector<std::uint32_t>>(what, work);
+        const auto pocl = on_pocl<std::vector<std::uint32_t>>(work);
+        ASSERT_FALSE(pocl.empty()) << what;
+        std::printf("%s:\n", what.c_str());
+        EXPECT_EQ(float_differences(oclgrind, pocl, tolerance), "") << what << " (seed " << seed_ << ")";
+    }
+
+    /// A filtered texture: bit for bit, except the Psi4 code of the nlq formats, which may
+    /// differ by one. Psi4 is a log of a log and its quantizer checks the code with an exp
+    /// of an exp (msm_formats.clh); OpenCL lets log and exp be 3 ulp off, and Oclgrind
+    /// (the host's libm in double) and PoCL (its own float code) differ in about 1 of
+    /// 500 log and 1 of 10 exp results (a probe of 20000 random arguments). Every other
+    /// operation the kernels use (+, -, *, /, fma, sqrt) is correctly rounded on both and
+    /// gives the same bits.
+    void expect_texture(const std::string& what, Format format, const Work& work) {
+        const Field all{0, 32, 0};
+        if (format == Format::nlq64)
+            expect_fields_close(what, work, {{all}, {Field{0, 16, 0}, Field{16, 16, 1}}});
+        else if (format == Format::nlq32)
+            expect_fields_close(what, work, {{Field{0, 6, 1}, Field{6, 26, 0}}});
+        else
+            expect_identical(what, work, msmcl::texel_words(format));
     }
 
     DepthImage depth(int samples, DepthRange range = DepthRange::zero_one, int width = kWidth, int height = kHeight) {
@@ -272,10 +366,10 @@ class OclgrindFormat : public Oclgrind, public ::testing::WithParamInterface<For
 TEST_P(OclgrindFormat, FusedPaper) {
     const Format format = GetParam();
     const DepthImage one = depth(1), four = depth(4), four_signed = depth(4, DepthRange::minus_one_one);
-    expect_identical("fused_paper " + variant(format, 1), filtering(one, {}, format, FilterKernel::fused_paper));
-    expect_identical("fused_paper " + variant(format, 4), filtering(four, {}, format, FilterKernel::fused_paper));
+    expect_texture("fused_paper " + variant(format, 1), format, filtering(one, {}, format, FilterKernel::fused_paper));
+    expect_texture("fused_paper " + variant(format, 4), format, filtering(four, {}, format, FilterKernel::fused_paper));
     if (format == Format::nlq32)
-        expect_identical("fused_paper " + variant(format, 4) + ", depth range -1,1",
+        expect_texture("fused_paper " + variant(format, 4) + ", depth range -1,1", format,
                          filtering(four_signed, {}, format, FilterKernel::fused_paper, DepthRange::minus_one_one));
 }
 
@@ -285,14 +379,14 @@ TEST_P(OclgrindFormat, FusedCpuInteriorAndBorder) {
     const Format format = GetParam();
     use_cpu_tile("16x8");
     const int samples = format == Format::moments128 ? 1 : format == Format::nlq32 ? 2 : 4;
-    expect_identical("fused_cpu 16x8 " + variant(format, samples),
+    expect_texture("fused_cpu 16x8 " + variant(format, samples), format,
                      filtering(depth(samples), {}, format, FilterKernel::fused_cpu));
 }
 
 // The three-pass baseline.
 TEST_P(OclgrindFormat, ThreePass) {
     const Format format = GetParam();
-    expect_identical("three_pass " + variant(format, 4), filtering(depth(4), {}, format, FilterKernel::three_pass));
+    expect_texture("three_pass " + variant(format, 4), format, filtering(depth(4), {}, format, FilterKernel::three_pass));
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, OclgrindFormat, ::testing::ValuesIn(kFormats), format_test_name);
@@ -300,9 +394,9 @@ INSTANTIATE_TEST_SUITE_P(Formats, OclgrindFormat, ::testing::ValuesIn(kFormats),
 // Translucent layers in the paper's kernel: two layers at four samples, the most (8) at one.
 TEST_F(Oclgrind, FusedPaperTranslucent) {
     const DepthImage four = depth(4), one = depth(1);
-    expect_identical("fused_paper " + variant(Format::msm64, 4, 2),
+    expect_texture("fused_paper " + variant(Format::msm64, 4, 2), Format::msm64,
                      filtering(four, layers(four, 2), Format::msm64, FilterKernel::fused_paper));
-    expect_identical("fused_paper " + variant(Format::nlq64, 1, msmcl::max_translucent_layers),
+    expect_texture("fused_paper " + variant(Format::nlq64, 1, msmcl::max_translucent_layers), Format::nlq64,
                      filtering(one, layers(one, msmcl::max_translucent_layers), Format::nlq64,
                                FilterKernel::fused_paper));
 }
@@ -312,16 +406,16 @@ TEST_F(Oclgrind, FusedCpuAndThreePassTranslucent) {
     const DepthImage one = depth(1);
     const std::vector<TranslucentLayer> two = layers(one, 2);
     use_cpu_tile("16x8");
-    expect_identical("fused_cpu 16x8 " + variant(Format::nlq64, 1, 2),
+    expect_texture("fused_cpu 16x8 " + variant(Format::nlq64, 1, 2), Format::nlq64,
                      filtering(one, two, Format::nlq64, FilterKernel::fused_cpu));
-    expect_identical("three_pass " + variant(Format::msm64, 1, 2),
+    expect_texture("three_pass " + variant(Format::msm64, 1, 2), Format::msm64,
                      filtering(one, two, Format::msm64, FilterKernel::three_pass));
 }
 
 // The CPU distribution with its default 128x64 tile (136 work-items a group): border only
 // on a map this small.
 TEST_F(Oclgrind, FusedCpuDefaultTile) {
-    expect_identical("fused_cpu " + variant(Format::msm64, 4),
+    expect_texture("fused_cpu " + variant(Format::msm64, 4), Format::msm64,
                      filtering(depth(4), {}, Format::msm64, FilterKernel::fused_cpu));
 }
 
@@ -329,7 +423,13 @@ TEST_F(Oclgrind, FusedCpuDefaultTile) {
 // path's interleaving kernel (depth_interleave_layers), then the paper's kernel.
 TEST_F(Oclgrind, FilterFromLayeredDepthImage) {
     const DepthImage map = depth(2);
-    expect_identical("depth image layers -> fused_paper " + variant(Format::nlq64, 2), [&](Context& context) {
+    // Oclgrind 21.10 does not carry the initialized state of memory through device-side
+    // copies (Memory::copy notifies a plain store, which its uninitialized-value checker
+    // ignores), and this path starts with clEnqueueCopyImageToBuffer: every value the
+    // interleaving kernel reads would be reported. The checker is off for this case only;
+    // races and API misuse are still checked.
+    unsetenv("OCLGRIND_UNINITIALIZED");
+    expect_texture("depth image layers -> fused_paper " + variant(Format::nlq64, 2), Format::nlq64, [&](Context& context) {
         // Sample s of every texel into layer s.
         std::vector<float> planes(map.depth.size());
         const std::size_t texels = static_cast<std::size_t>(map.width) * map.height;
@@ -361,6 +461,7 @@ TEST_F(Oclgrind, FilterFromLayeredDepthImage) {
         clReleaseMemObject(image);
         return words;
     });
+    setenv("OCLGRIND_UNINITIALIZED", "1", 1);
 }
 
 // ---- Shading.
@@ -391,11 +492,16 @@ TEST_P(OclgrindFormat, ShadeLookups) {
         options.frame = 5;
         options.screen_width = 20;
         const std::string what = std::string("shade ") + msmcl::format_name(format) + " " + msmcl::lookup_name(lookup);
-        expect_identical(what, [&](Context& context) { return bits_of(msmcl::shade(context, map, receivers, options)); });
+        // moments128 and msm64: bit for bit. nlq64, nlq32: Psi4^-1 is an exp of an exp
+        // (msm_formats.clh), whose last bits differ between Oclgrind and PoCL (see
+        // expect_texture); a few intensities move by a few ulp (at most 3e-7 seen).
+        const double tolerance = format == Format::nlq64 || format == Format::nlq32 ? 2e-6 : 0.0;
+        expect_floats_close(what, [&](Context& context) { return bits_of(msmcl::shade(context, map, receivers, options)); },
+                            tolerance);
         if (lookup == msmcl::Lookup::dither)
-            expect_identical(what + " with pixels", [&](Context& context) {
+            expect_floats_close(what + " with pixels", [&](Context& context) {
                 return bits_of(msmcl::shade(context, map, receivers, pixels, options));
-            });
+            }, tolerance);
     }
 }
 
@@ -486,6 +592,11 @@ TEST_F(Oclgrind, SatQueriesAndSoftShadows) {
 
 // ---- Single scattering.
 
+// Radiance (a fully lit ray of the hall scene gives about 0.3) and the normalized prefix
+// sums (moments in [-1, 1]): Oclgrind against PoCL, see PrefilterAndEvaluate.
+constexpr double kRadianceTolerance = 1e-3;
+constexpr double kPrefixSumTolerance = 1e-3;
+
 std::string scatter_test_name(const ::testing::TestParamInfo<ScatterKernel>& info) {
     return msmcl::scatter_kernel_name(info.param);
 }
@@ -514,7 +625,13 @@ protected:
 };
 
 // Both row distributions of the prefilter with evaluation: filtered resampling with 6 and
-// 4 moments, unfiltered resampling, and the float prefix sums before quantization.
+// 4 moments, unfiltered resampling, and the float prefix sums before quantization. Not bit
+// for bit: the rectification (msm_scatter.clh) places every texel with sin, cos, atan2 and
+// acos, which OpenCL lets be 4 ulp off and which differ in their last bits between Oclgrind
+// and PoCL (as log and exp do, see expect_texture), and the radiance adds exp. So a stored
+// code may differ by one and the float results by the tolerances below; the kernels'
+// distribution of work plays no part (each row's sums are the same operations in the same
+// order on both).
 TEST_P(OclgrindScatter, PrefilterAndEvaluate) {
     const ScatterKernel kernel = GetParam();
     const std::string name = std::string("scatter ") + msmcl::scatter_kernel_name(kernel);
@@ -525,25 +642,30 @@ TEST_P(OclgrindScatter, PrefilterAndEvaluate) {
         options.kernel = kernel;
         options.filter_kernel = FilterKernel::fused_paper;
         const std::string what = name + ", " + std::to_string(moments) + " moments" + (filtered ? "" : ", unfiltered");
-        expect_identical(what + ", map", [&](Context& context) {
+        const std::vector<std::vector<Field>> codes =
+            moments == 6 ? std::vector<std::vector<Field>>{{Field{0, 10, 1}, Field{10, 10, 1}, Field{20, 10, 1},
+                                                            Field{30, 2, 0}}}
+                         : std::vector<std::vector<Field>>{{Field{0, 16, 1}, Field{16, 16, 1}}};
+        expect_fields_close(what + ", map", [&](Context& context) {
             return msmcl::scatter_prefilter(context, scene_, shadow_, options).words;
-        });
-        expect_identical(what + ", radiance", [&](Context& context) {
+        }, codes);
+        expect_floats_close(what + ", radiance", [&](Context& context) {
             return bits_of(msmcl::scatter(context, scene_, shadow_, camera_, options));
-        });
+        }, kRadianceTolerance);
     }
     msmcl::ScatterOptions options;
     options.kernel = kernel;
     options.filter_kernel = FilterKernel::fused_paper;
-    expect_identical(name + ", prefix sums", [&](Context& context) {
+    expect_floats_close(name + ", prefix sums", [&](Context& context) {
         return bits_of(msmcl::scatter_rectified_moments(context, scene_, shadow_, options, true));
-    });
+    }, kPrefixSumTolerance);
 }
 
 INSTANTIATE_TEST_SUITE_P(Distributions, OclgrindScatter, ::testing::Values(ScatterKernel::rows_gpu, ScatterKernel::rows_cpu),
                          scatter_test_name);
 
-// The ground truth: ray marching, with and without jitter.
+// The ground truth: ray marching, with and without jitter (exp per segment: not bit for
+// bit, see PrefilterAndEvaluate).
 TEST_F(Oclgrind, ScatterRayMarch) {
     std::ifstream in(std::string(MSMCL_SOURCE_DIR) + "/data/scatter/hall.json");
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -554,9 +676,9 @@ TEST_F(Oclgrind, ScatterRayMarch) {
     const DepthImage shadow = msmcl::scatter_data::render_shadow_map(scene, geometry, kWidth, kHeight, 2);
     const std::vector<float> camera = msmcl::scatter_data::render_camera_depth(scene, geometry);
     for (std::uint32_t jitter : {0u, 7u})
-        expect_identical("scatter_ray_march jitter " + std::to_string(jitter), [&](Context& context) {
+        expect_floats_close("scatter_ray_march jitter " + std::to_string(jitter), [&](Context& context) {
             return bits_of(msmcl::scatter_ray_march(context, scene, shadow, camera, 8, jitter));
-        });
+        }, kRadianceTolerance);
 }
 
 } // namespace
