@@ -308,6 +308,8 @@ TEST_F(Cli, KernelOptionPicksTheDistribution) {
         ASSERT_EQ(result.exit_code, 0) << result.err;
         EXPECT_EQ(msmcl::io::read_sat_exr(file).table.words, table);
     }
+    // An unknown kernel: usage error, nothing written.
+    for (const std::string& name : outputs()) fs::remove(out(name));
     expect_bad_input({"filter", in("depth.exr"), out("t.exr"), "--format", "nlq64", "--kernel", "fused"}, "",
                      "unknown --kernel 'fused' (expected automatic, fused_paper, fused_cpu or three_pass)");
     expect_bad_input({"sat", in("depth.exr"), out("t.exr"), "--kernel", "tiled"}, "",
