@@ -1,4 +1,4 @@
-// Integer modular summed-area table (SPEC section 5): input texels -> uint32 channels ->
+// Integer modular summed-area table (docs/math.md): input texels -> uint32 channels ->
 // prefix sums in x and y, wrapping mod 2^32 (any order of additions gives the same bits).
 //
 // Tiled scan for GPUs (work-efficient: every texel is added once per direction, plus
@@ -9,10 +9,12 @@
 //   3. sat_tile_scan: per tile, the texels again, scanned down the columns starting from the
 //      column carries, then along the rows starting from the left carries, written once.
 // Every input texel is read twice (steps 1 and 3) and every table texel written once.
-// Work-item layout: one work-item per tile column; column walks go down in registers
-// (coalesced loads), row walks run in local memory with a padded pitch (one work-item per
-// row, distinct banks). sat_build_cpu.cl is the same algorithm for CPUs.
-// Baseline (one thread per row, as in seed 001): sat_rows_per_thread then
+// Work-item layout: one work-item per tile column; the tile goes through local memory one
+// strip of TILE/4 rows at a time: column walks go down the strip in registers (coalesced
+// loads), then each work-item walks one row of one channel of the strip (4 channels x
+// TILE/4 rows = TILE walkers), in a rotated layout where both walks hit distinct banks.
+// No work-group waits for another. sat_build_cpu.cl is the same algorithm for CPUs.
+// Baseline (one thread per row, as in Peters et al., i3D 2016): sat_rows_per_thread then
 // sat_columns_per_thread.
 //
 // Compile-time: MSM_SAT_SOURCE 0 = depth map (MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; moments
@@ -23,9 +25,18 @@
 #define MSM_SAT_TILE 32
 #endif
 #define TILE MSM_SAT_TILE
-// Row pitch of the local tile: row walks (one work-item per row) hit distinct banks.
-#define PITCH (TILE + 1)
-#define PLANE (TILE * PITCH)
+// A tile is scanned in strips of STRIP rows: 4 channels x STRIP rows give one row walker per
+// work-item, and local memory holds one strip (4 KiB for TILE 32: 16 groups of 32 in a
+// 64 KiB compute unit).
+#define STRIP (TILE / 4)
+#define STRIP_WORDS (4 * STRIP * TILE)
+#if TILE % 4 != 0
+#error "MSM_SAT_TILE must be a multiple of 4"
+#endif
+// Word of channel c, strip row r, tile column x, rotated by r + STRIP c within its row: column
+// walks (fixed c and r, x across the work-items) and row walks (fixed x, r + STRIP c across
+// the work-items) both touch TILE distinct banks, with no padding.
+#define STRIP_INDEX(c, r, x) (((c) * STRIP + (r)) * TILE + (((x) + (r) + STRIP * (c)) % TILE))
 
 #if MSM_SAT_SOURCE == 0
 #define SOURCE_TYPE float
@@ -57,162 +68,118 @@ static inline __attribute__((always_inline)) msm_sat_sum source_texel(__global c
 __kernel __attribute__((reqd_work_group_size(TILE, 1, 1)))
 void sat_tile_totals(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                      __global uint* column_totals, __global uint* row_totals, __global uint* tile_totals) {
-    __local uint texels[4 * PLANE];
-    __local uint rows[4 * TILE];
-
-    // Each work-item walks its column of the tile: column total, texels into local memory.
-    {
-        const size_t lx = get_local_id(0);
-        const size_t x = get_group_id(0) * TILE + lx;
-        const int y0 = (int)(get_group_id(1) * TILE);
-        uint c0 = 0u, c1 = 0u, c2 = 0u, c3 = 0u;
-        for (int j = 0; j < TILE; ++j) {
-            const msm_sat_sum t = source_texel(source, width, height, (int)x, y0 + j, scale);
+    __local uint strip[STRIP_WORDS];
+    const uint lx = (uint)get_local_id(0);
+    const size_t x = get_group_id(0) * TILE + lx;
+    const int y0 = (int)(get_group_id(1) * TILE);
+    // Row walker of this work-item: one row and one channel of each strip.
+    const uint walk_row = lx % STRIP, walk_channel = lx / STRIP;
+    const size_t rows_at = 4 * (get_group_id(0) * get_num_groups(1) * TILE + (size_t)y0);
+    uint c0 = 0u, c1 = 0u, c2 = 0u, c3 = 0u;
+    uint tile_part = 0u;
+    for (int strip0 = 0; strip0 < TILE; strip0 += STRIP) {
+        // Each work-item walks its column through the strip: column total, texels into local memory.
+        for (uint r = 0; r < STRIP; ++r) {
+            const msm_sat_sum t = source_texel(source, width, height, (int)x, y0 + strip0 + (int)r, scale);
             c0 += t.c0;
             c1 += t.c1;
             c2 += t.c2;
             c3 += t.c3;
-            texels[0 * PLANE + j * PITCH + lx] = t.c0;
-            texels[1 * PLANE + j * PITCH + lx] = t.c1;
-            texels[2 * PLANE + j * PITCH + lx] = t.c2;
-            texels[3 * PLANE + j * PITCH + lx] = t.c3;
+            strip[STRIP_INDEX(0u, r, lx)] = t.c0;
+            strip[STRIP_INDEX(1u, r, lx)] = t.c1;
+            strip[STRIP_INDEX(2u, r, lx)] = t.c2;
+            strip[STRIP_INDEX(3u, r, lx)] = t.c3;
         }
-        const size_t at = 4 * (get_group_id(1) * get_num_groups(0) * TILE + x);
-        column_totals[at + 0] = c0;
-        column_totals[at + 1] = c1;
-        column_totals[at + 2] = c2;
-        column_totals[at + 3] = c3;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        // Each work-item sums its row and channel of the strip.
+        uint sum = 0u;
+        for (uint i = 0; i < TILE; ++i) sum += strip[STRIP_INDEX(walk_channel, walk_row, i)];
+        row_totals[rows_at + 4 * (size_t)(strip0 + (int)walk_row) + walk_channel] = sum;
+        tile_part += sum;
+        // The next strip overwrites what the row walks read.
+        barrier(CLK_LOCAL_MEM_FENCE);
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    const size_t at = 4 * (get_group_id(1) * get_num_groups(0) * TILE + x);
+    column_totals[at + 0] = c0;
+    column_totals[at + 1] = c1;
+    column_totals[at + 2] = c2;
+    column_totals[at + 3] = c3;
 
-    // Work-item j sums row j of the tile.
-    {
-        const size_t j = get_local_id(0);
-        uint r0 = 0u, r1 = 0u, r2 = 0u, r3 = 0u;
-        for (int i = 0; i < TILE; ++i) {
-            r0 += texels[0 * PLANE + j * PITCH + i];
-            r1 += texels[1 * PLANE + j * PITCH + i];
-            r2 += texels[2 * PLANE + j * PITCH + i];
-            r3 += texels[3 * PLANE + j * PITCH + i];
-        }
-        const size_t at = 4 * (get_group_id(0) * get_num_groups(1) * TILE + get_group_id(1) * TILE + j);
-        row_totals[at + 0] = r0;
-        row_totals[at + 1] = r1;
-        row_totals[at + 2] = r2;
-        row_totals[at + 3] = r3;
-        rows[0 * TILE + j] = r0;
-        rows[1 * TILE + j] = r1;
-        rows[2 * TILE + j] = r2;
-        rows[3 * TILE + j] = r3;
-    }
+    // The tile total per channel: the sums of its STRIP row walkers.
+    strip[lx] = tile_part;
     barrier(CLK_LOCAL_MEM_FENCE);
-
-    // One work-item adds up the row totals.
-    if (get_local_id(0) == 0) {
-        uint t0 = 0u, t1 = 0u, t2 = 0u, t3 = 0u;
-        for (int j = 0; j < TILE; ++j) {
-            t0 += rows[0 * TILE + j];
-            t1 += rows[1 * TILE + j];
-            t2 += rows[2 * TILE + j];
-            t3 += rows[3 * TILE + j];
-        }
-        const size_t at = 4 * (get_group_id(1) * get_num_groups(0) + get_group_id(0));
-        tile_totals[at + 0] = t0;
-        tile_totals[at + 1] = t1;
-        tile_totals[at + 2] = t2;
-        tile_totals[at + 3] = t3;
+    if (lx < 4u) {
+        uint total = 0u;
+        for (uint r = 0; r < STRIP; ++r) total += strip[lx * STRIP + r];
+        tile_totals[4 * (get_group_id(1) * get_num_groups(0) + get_group_id(0)) + lx] = total;
     }
 }
 
-// Step 3. The table: S(x, y) = corner + (left carries of rows <= y) + (column carries of
-// columns <= x) + the tile's own 2D prefix sum.
+// Step 3. The table: S(x, y) = E(y) + sum over columns x' <= x of V(x', y), where V is the
+// column prefix sum from the column carry and E(y) = corner + the left carries of rows
+// <= y (the table just left of the tile).
 __kernel __attribute__((reqd_work_group_size(TILE, 1, 1)))
 void sat_tile_scan(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                    __global const uint* column_carries, __global const uint* row_carries,
                    __global const uint* corner_carries, __global uint* table) {
-    __local uint sums[4 * PLANE];
-    __local uint left[4 * TILE];
-
-    // One work-item: the table just left of the tile, E(j) = corner + sum_{j' <= j} row carry.
-    if (get_local_id(0) == 0) {
-        const size_t corner = 4 * (get_group_id(1) * get_num_groups(0) + get_group_id(0));
-        uint e0 = corner_carries[corner + 0], e1 = corner_carries[corner + 1];
-        uint e2 = corner_carries[corner + 2], e3 = corner_carries[corner + 3];
-        const size_t first = get_group_id(0) * get_num_groups(1) * TILE + get_group_id(1) * TILE;
-        for (int j = 0; j < TILE; ++j) {
-            const size_t at = 4 * (first + (size_t)j);
-            e0 += row_carries[at + 0];
-            e1 += row_carries[at + 1];
-            e2 += row_carries[at + 2];
-            e3 += row_carries[at + 3];
-            left[0 * TILE + j] = e0;
-            left[1 * TILE + j] = e1;
-            left[2 * TILE + j] = e2;
-            left[3 * TILE + j] = e3;
-        }
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-
-    // Each work-item walks its column: prefix sums from the column carry down.
-    {
-        const size_t lx = get_local_id(0);
-        const size_t x = get_group_id(0) * TILE + lx;
-        const int y0 = (int)(get_group_id(1) * TILE);
-        const size_t carry = 4 * (get_group_id(1) * get_num_groups(0) * TILE + x);
-        uint v0 = column_carries[carry + 0], v1 = column_carries[carry + 1];
-        uint v2 = column_carries[carry + 2], v3 = column_carries[carry + 3];
-        for (int j = 0; j < TILE; ++j) {
-            const msm_sat_sum t = source_texel(source, width, height, (int)x, y0 + j, scale);
+    __local uint strip[STRIP_WORDS];
+    const uint lx = (uint)get_local_id(0);
+    const size_t x = get_group_id(0) * TILE + lx;
+    const int y0 = (int)(get_group_id(1) * TILE);
+    // Column walker state: V of this work-item's column, from its carry.
+    const size_t carry = 4 * (get_group_id(1) * get_num_groups(0) * TILE + x);
+    uint v0 = column_carries[carry + 0], v1 = column_carries[carry + 1];
+    uint v2 = column_carries[carry + 2], v3 = column_carries[carry + 3];
+    // Row walker state: E of its channel above the current strip.
+    const uint walk_row = lx % STRIP, walk_channel = lx / STRIP;
+    uint left_above = corner_carries[4 * (get_group_id(1) * get_num_groups(0) + get_group_id(0)) + walk_channel];
+    const size_t rows_at = 4 * (get_group_id(0) * get_num_groups(1) * TILE + (size_t)y0);
+    for (int strip0 = 0; strip0 < TILE; strip0 += STRIP) {
+        // Each work-item walks its column through the strip: V into local memory.
+        for (uint r = 0; r < STRIP; ++r) {
+            const msm_sat_sum t = source_texel(source, width, height, (int)x, y0 + strip0 + (int)r, scale);
             v0 += t.c0;
             v1 += t.c1;
             v2 += t.c2;
             v3 += t.c3;
-            sums[0 * PLANE + j * PITCH + lx] = v0;
-            sums[1 * PLANE + j * PITCH + lx] = v1;
-            sums[2 * PLANE + j * PITCH + lx] = v2;
-            sums[3 * PLANE + j * PITCH + lx] = v3;
+            strip[STRIP_INDEX(0u, r, lx)] = v0;
+            strip[STRIP_INDEX(1u, r, lx)] = v1;
+            strip[STRIP_INDEX(2u, r, lx)] = v2;
+            strip[STRIP_INDEX(3u, r, lx)] = v3;
         }
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
+        barrier(CLK_LOCAL_MEM_FENCE);
 
-    // Work-item j walks row j: prefix sums from the left carry along the row.
-    {
-        const size_t j = get_local_id(0);
-        uint h0 = left[0 * TILE + j], h1 = left[1 * TILE + j];
-        uint h2 = left[2 * TILE + j], h3 = left[3 * TILE + j];
-        for (int i = 0; i < TILE; ++i) {
-            h0 += sums[0 * PLANE + j * PITCH + i];
-            h1 += sums[1 * PLANE + j * PITCH + i];
-            h2 += sums[2 * PLANE + j * PITCH + i];
-            h3 += sums[3 * PLANE + j * PITCH + i];
-            sums[0 * PLANE + j * PITCH + i] = h0;
-            sums[1 * PLANE + j * PITCH + i] = h1;
-            sums[2 * PLANE + j * PITCH + i] = h2;
-            sums[3 * PLANE + j * PITCH + i] = h3;
+        // Each work-item walks its row and channel from E(y), in place; E from the left
+        // carries of the strip's rows (its own and those above it).
+        uint h = left_above;
+        for (uint r = 0; r < STRIP; ++r) {
+            const uint left_carry = row_carries[rows_at + 4 * (size_t)(strip0 + (int)r) + walk_channel];
+            h += r <= walk_row ? left_carry : 0u;
+            left_above += left_carry;
         }
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
+        for (uint i = 0; i < TILE; ++i) {
+            h += strip[STRIP_INDEX(walk_channel, walk_row, i)];
+            strip[STRIP_INDEX(walk_channel, walk_row, i)] = h;
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
 
-    // Each work-item writes its column of the tile (4 consecutive uints per texel).
-    {
-        const size_t lx = get_local_id(0);
-        const size_t x = get_group_id(0) * TILE + lx;
-        const size_t y0 = get_group_id(1) * TILE;
+        // Each work-item writes its column of the strip (4 consecutive uints per texel). The
+        // next column walk overwrites only these same words of its own column: no barrier.
         if (x < (size_t)width) {
-            for (int j = 0; j < TILE; ++j) {
-                const size_t y = y0 + (size_t)j;
+            for (uint r = 0; r < STRIP; ++r) {
+                const size_t y = (size_t)(y0 + strip0) + r;
                 if (y >= (size_t)height) break;
                 const size_t at = 4 * (y * (size_t)width + x);
-                table[at + 0] = sums[0 * PLANE + j * PITCH + lx];
-                table[at + 1] = sums[1 * PLANE + j * PITCH + lx];
-                table[at + 2] = sums[2 * PLANE + j * PITCH + lx];
-                table[at + 3] = sums[3 * PLANE + j * PITCH + lx];
+                table[at + 0] = strip[STRIP_INDEX(0u, r, lx)];
+                table[at + 1] = strip[STRIP_INDEX(1u, r, lx)];
+                table[at + 2] = strip[STRIP_INDEX(2u, r, lx)];
+                table[at + 3] = strip[STRIP_INDEX(3u, r, lx)];
             }
         }
     }
 }
 
-// Baseline, horizontal: one work-item per row, texels converted on the fly (seed 001).
+// Baseline, horizontal: one work-item per row, texels converted on the fly (Peters et al., i3D 2016).
 __kernel void sat_rows_per_thread(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                   __global uint* table) {
     const size_t y = get_global_id(0);

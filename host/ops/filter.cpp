@@ -1,4 +1,5 @@
-// filter: depth map -> resolved, blurred, quantized moment shadow map (SPEC sections 2-4).
+// filter: depth map -> resolved, blurred, quantized moment shadow map (docs/math.md).
+#include "ops/kernel_variants.hpp"
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
 #include "runtime/work_distribution.hpp"
@@ -102,7 +103,7 @@ void validate_device_sizes(const DeviceInfo& device, int width, int height, int 
     const unsigned long long texels = texel_count(width, height);
     const auto check = [&](unsigned long long bytes, const char* what) {
         if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes) {
-            throw input_error(std::string("filter: ") + what + " for a " + describe_size(width, height, samples) +
+            throw device_error(std::string("filter: ") + what + " for a " + describe_size(width, height, samples) +
                               " depth map needs " + std::to_string(bytes) + " bytes, more than the device's " +
                               "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
         }
@@ -143,16 +144,16 @@ std::string device_limits(const DeviceInfo& device) {
     return std::to_string(device.max_work_group_size) + " and " + std::to_string(device.local_mem_bytes);
 }
 
-// automatic -> fused_cpu on CPU devices that are not GPUs (work_distribution.hpp),
-// fused_paper elsewhere, each where the device can run it, else three_pass. An explicit
-// choice is honoured or refused with device_error.
+// automatic -> fused_cpu on CPU devices that are not GPUs (runtime/work_distribution.hpp),
+// fused_paper elsewhere, each where the device can run it, else three_pass. A device that
+// is not a CPU never gets fused_cpu (its budgets are a CPU's: scripts/gpu_compile_report.py
+// exempts it). An explicit choice is honoured or refused with device_error.
 FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
     const CpuTiling tiling = cpu_tiling();
     if (requested == FilterKernel::automatic) {
         if (!detail::prefers_gpu_distribution(device) && device_runs_fused_cpu(device, tiling))
             return FilterKernel::fused_cpu;
-        if (device_runs_fused(device)) return FilterKernel::fused_paper;
-        return device_runs_fused_cpu(device, tiling) ? FilterKernel::fused_cpu : FilterKernel::three_pass;
+        return device_runs_fused(device) ? FilterKernel::fused_paper : FilterKernel::three_pass;
     }
     if (requested == FilterKernel::fused_paper && !device_runs_fused(device)) {
         throw device_error("filter: device '" + device.name + "' cannot run the fused kernel (needs " +
@@ -169,14 +170,8 @@ FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
     return requested;
 }
 
-// Compile-time variant: sample count, format (msmcl::Format order), depth convention.
 std::vector<std::string> kernel_defines(int samples, const FilterOptions& options, int layers) {
-    std::vector<std::string> defines = {
-        "MSM_SAMPLES=" + std::to_string(samples), "MSM_FORMAT=" + std::to_string(static_cast<int>(options.format)),
-        "MSM_DEPTH_ZERO_ONE=" + std::string(options.depth_range == DepthRange::zero_one ? "1" : "0")};
-    // Translucent layers: the compositing resolve (opaque maps keep the opaque program).
-    if (layers > 0) defines.push_back("MSM_LAYERS=" + std::to_string(layers));
-    return defines;
+    return detail::filter_defines(samples, options.format, options.depth_range, layers);
 }
 
 // Sets the 5 distinct taps w0 (centre) .. w4 as float arguments starting at `first`.
@@ -198,9 +193,8 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
                             const cl::Buffer& texture, const FilterOptions& options, int samples,
                             const std::array<float, 9>& taps, const LayerBuffers& layers) {
     const CpuTiling tiling = cpu_tiling();
-    std::vector<std::string> defines = kernel_defines(samples, options, layers.count);
-    defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
-    defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));
+    const std::vector<std::string> defines =
+        detail::filter_cpu_defines(samples, options.format, options.depth_range, layers.count);
     // Tile grid; tile columns [ix0, ix1) read and write no column outside the image.
     const int tiles_x = (width + tiling.width - 1) / tiling.width;
     const int tiles_y = (height + tiling.height - 1) / tiling.height;
@@ -366,6 +360,33 @@ std::optional<FilterKernel> parse_filter_kernel(std::string_view name) noexcept 
 FilterKernel filter_kernel_for(const Context& context, FilterKernel requested) {
     return choose_kernel(context.device(), requested);
 }
+
+namespace detail {
+
+FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested) {
+    return choose_kernel(device, requested);
+}
+
+// Compile-time variant: sample count, format (msmcl::Format order), depth convention.
+std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers) {
+    std::vector<std::string> defines = {"MSM_SAMPLES=" + std::to_string(samples),
+                                        "MSM_FORMAT=" + std::to_string(static_cast<int>(format)),
+                                        "MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0")};
+    // Translucent layers: the compositing resolve (opaque maps keep the opaque program).
+    if (layers > 0) defines.push_back("MSM_LAYERS=" + std::to_string(layers));
+    return defines;
+}
+
+// The CPU kernel adds its tile.
+std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers) {
+    const CpuTiling tiling = cpu_tiling();
+    std::vector<std::string> defines = filter_defines(samples, format, range, layers);
+    defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
+    defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));
+    return defines;
+}
+
+} // namespace detail
 
 std::array<float, 9> gaussian_taps(float sigma) {
     if (!std::isfinite(sigma) || sigma < 0.0f)

@@ -1,5 +1,6 @@
 // sat: depth map -> integer modular summed-area table (kernels/sat_build.cl), and the
 // table queries on host (kernels/msm_sat.clh compiled as C++) and device (sat_query.cl).
+#include "ops/kernel_variants.hpp"
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
 #include "runtime/work_distribution.hpp"
@@ -70,7 +71,7 @@ void validate_depth_values(const DepthImage& depth, DepthRange range) {
 // Buffers of a call against the device's largest allocation.
 void validate_device_bytes(const DeviceInfo& device, unsigned long long bytes, const std::string& what) {
     if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes)
-        throw input_error("sat: " + what + " needs " + std::to_string(bytes) + " bytes, more than the device's " +
+        throw device_error("sat: " + what + " needs " + std::to_string(bytes) + " bytes, more than the device's " +
                           "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
 }
 
@@ -99,12 +100,7 @@ struct SatSource {
 // Compile-time variant: input kind, sample count, depth convention, tile or band size.
 // `step1_texels`: ready texels in the layout step 1 of the CPU build leaves (MSM_SAT_SOURCE 2).
 std::vector<std::string> build_defines(const SatSource& source, SatKernel kernel, bool step1_texels = false) {
-    const bool zero_one = !source.is_depth || source.depth_range == DepthRange::zero_one;
-    return {"MSM_SAT_SOURCE=" + std::string(source.is_depth ? "0" : step1_texels ? "2" : "1"),
-            "MSM_SAMPLES=" + std::to_string(source.is_depth ? source.samples : 1),
-            "MSM_DEPTH_ZERO_ONE=" + std::string(zero_one ? "1" : "0"),
-            kernel == SatKernel::tiled_cpu ? "MSM_SAT_BAND_H=" + std::to_string(kCpuBandHeight)
-                                           : "MSM_SAT_TILE=" + std::to_string(kGpuTile)};
+    return detail::sat_build_defines(source.is_depth, source.samples, source.depth_range, kernel, step1_texels);
 }
 
 cl::Buffer scratch_buffer(detail::ContextImpl& impl, std::size_t words, const char* what) {
@@ -281,6 +277,8 @@ cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue
                         const cl::Buffer& source, const SatSource& what, int width, int height,
                         const cl::Buffer& table, SatKernel kernel) {
     validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " table");
+    // Scratch held by this call is released even when an enqueue throws.
+    const detail::ContextImpl::ScratchSession scratch_session(impl);
     switch (kernel) {
     case SatKernel::row_per_thread:
         return enqueue_rows_per_thread(impl, queue, waits, source, what, width, height, table);
@@ -299,9 +297,7 @@ cl::Event enqueue_translucent_build(detail::ContextImpl& impl, const cl::Command
     validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " texels");
     cl::Buffer texels = scratch_buffer(impl, 4 * texel_count(width, height), "clCreateBuffer(sat translucent texels)");
     cl::Kernel& composite = impl.kernel(
-        "sat_translucent.cl",
-        {"MSM_SAMPLES=" + std::to_string(what.samples), "MSM_LAYERS=" + std::to_string(layers),
-         "MSM_DEPTH_ZERO_ONE=" + std::string(what.depth_range == DepthRange::zero_one ? "1" : "0")},
+        "sat_translucent.cl", detail::sat_translucent_defines(what.samples, layers, what.depth_range),
         "sat_translucent_texels");
     detail::set_arg(composite, 0, depth);
     detail::set_arg(composite, 1, layer_depth);
@@ -318,12 +314,7 @@ cl::Event enqueue_translucent_build(detail::ContextImpl& impl, const cl::Command
                          table, kernel);
 }
 
-// automatic: the CPU distribution on CPUs that are not GPUs, the GPU one elsewhere
-// (work_distribution.hpp).
-SatKernel resolve_kernel(const DeviceInfo& device, SatKernel kernel) {
-    if (kernel != SatKernel::automatic) return kernel;
-    return detail::prefers_gpu_distribution(device) ? SatKernel::tiled_gpu : SatKernel::tiled_cpu;
-}
+SatKernel resolve_kernel(const DeviceInfo& device, SatKernel kernel) { return detail::sat_kernel_for(device, kernel); }
 
 // A host table must be what build_sat produces.
 void validate_table(const SatTable& table, const char* call) {
@@ -350,6 +341,34 @@ Moments4 moments_of_basis(const msm_sat_basis& mean) {
 }
 
 } // namespace
+
+namespace detail {
+
+// automatic: the CPU distribution on CPUs that are not GPUs, the GPU one elsewhere
+// (runtime/work_distribution.hpp).
+SatKernel sat_kernel_for(const DeviceInfo& device, SatKernel requested) {
+    if (requested != SatKernel::automatic) return requested;
+    return prefers_gpu_distribution(device) ? SatKernel::tiled_gpu : SatKernel::tiled_cpu;
+}
+
+// Compile-time variant: input kind, sample count, depth convention, tile or band size.
+// `step1_texels`: ready texels in the layout step 1 of the CPU build leaves (MSM_SAT_SOURCE 2).
+std::vector<std::string> sat_build_defines(bool is_depth, int samples, DepthRange range, SatKernel kernel,
+                                           bool step1_texels) {
+    const bool zero_one = !is_depth || range == DepthRange::zero_one;
+    return {"MSM_SAT_SOURCE=" + std::string(is_depth ? "0" : step1_texels ? "2" : "1"),
+            "MSM_SAMPLES=" + std::to_string(is_depth ? samples : 1),
+            "MSM_DEPTH_ZERO_ONE=" + std::string(zero_one ? "1" : "0"),
+            kernel == SatKernel::tiled_cpu ? "MSM_SAT_BAND_H=" + std::to_string(kCpuBandHeight)
+                                           : "MSM_SAT_TILE=" + std::to_string(kGpuTile)};
+}
+
+std::vector<std::string> sat_translucent_defines(int samples, int layers, DepthRange range) {
+    return {"MSM_SAMPLES=" + std::to_string(samples), "MSM_LAYERS=" + std::to_string(layers),
+            "MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0")};
+}
+
+} // namespace detail
 
 std::uint32_t sat_scale(std::uint32_t max_kernel_texels) {
     if (max_kernel_texels < sat_min_kernel_texels || max_kernel_texels > sat_max_kernel_texels)

@@ -1,9 +1,10 @@
 // shade: evaluates a filtered map at receivers with kernels/shade.cl.
+#include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -34,7 +35,7 @@ void check_map_shape(Format format, int width, int height, const detail::Context
         throw input_error("shade: the map is empty (" + std::to_string(width) + "x" + std::to_string(height) + ")");
     const unsigned long long bytes = static_cast<unsigned long long>(width) * height * texel_bytes(format);
     if (bytes > impl.info.max_alloc_bytes)
-        throw input_error("shade: a " + std::to_string(width) + "x" + std::to_string(height) + " " +
+        throw device_error("shade: a " + std::to_string(width) + "x" + std::to_string(height) + " " +
                           format_name(format) + " map exceeds the device's largest buffer (" +
                           std::to_string(impl.info.max_alloc_bytes) + " bytes)");
 }
@@ -51,6 +52,19 @@ constexpr std::size_t blue_noise_texture_bytes = 64 * 64 * 2;
 
 } // namespace
 
+namespace detail {
+
+// Variant per format, lookup and depth convention (dither: and where pixels come from).
+std::vector<std::string> shade_defines(Format format, Lookup lookup, DepthRange range, bool receiver_pixels) {
+    std::vector<std::string> defines = {"MSM_FORMAT=" + std::to_string(static_cast<int>(format)),
+                                        "MSM_LOOKUP=" + std::to_string(static_cast<int>(lookup)),
+                                        std::string("MSM_DEPTH_ZERO_ONE=") + (range == DepthRange::zero_one ? "1" : "0")};
+    if (lookup == Lookup::dither) defines.push_back(std::string("MSM_RECEIVER_PIXELS=") + (receiver_pixels ? "1" : "0"));
+    return defines;
+}
+
+} // namespace detail
+
 void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, std::size_t count,
            cl_mem intensity, const ShadeOptions& options, const Enqueue& enqueue) {
     shade(context, map, receivers_uvz, nullptr, count, intensity, options, enqueue);
@@ -66,13 +80,9 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_
     if (count > std::numeric_limits<cl_uint>::max())
         throw input_error("shade: too many receivers in one call (" + std::to_string(count) + ")");
 
-    // Variant per format, lookup and depth convention (dither: and where pixels come from).
     const bool dither = options.lookup == Lookup::dither;
-    std::vector<std::string> defines = {
-        "MSM_FORMAT=" + std::to_string(static_cast<int>(map.format)),
-        "MSM_LOOKUP=" + std::to_string(static_cast<int>(options.lookup)),
-        std::string("MSM_DEPTH_ZERO_ONE=") + (options.depth_range == DepthRange::zero_one ? "1" : "0")};
-    if (dither) defines.push_back(std::string("MSM_RECEIVER_PIXELS=") + (receiver_pixels ? "1" : "0"));
+    const std::vector<std::string> defines =
+        detail::shade_defines(map.format, options.lookup, options.depth_range, receiver_pixels);
     cl::Kernel& kernel = impl.kernel("shade.cl", defines, dither ? "shade_dither" : "shade");
     cl::CommandQueue queue = impl.queue_for(enqueue);
     std::vector<cl::Event> waits = detail::wait_list(enqueue);

@@ -1,5 +1,6 @@
 // soft_shade: moment soft shadows of receivers from a summed-area table
 // (kernels/sat_soft.cl on the device, kernels/msm_sat.clh compiled as C++ on the host).
+#include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
 
 #include "kernels/msm_sat.clh"
@@ -51,6 +52,14 @@ msm_sat_soft_params device_params(int width, int height, std::uint32_t max_kerne
 
 } // namespace
 
+namespace detail {
+
+std::vector<std::string> soft_defines(DepthRange range) {
+    return {std::string("MSM_DEPTH_ZERO_ONE=") + (range == DepthRange::zero_one ? "1" : "0")};
+}
+
+} // namespace detail
+
 SoftShadowLimits soft_shadow_limits(std::uint32_t max_kernel_texels, const SoftShadowOptions& options) {
     sat_scale(max_kernel_texels);
     const int side = integer_sqrt(max_kernel_texels);
@@ -81,9 +90,7 @@ void soft_shade(Context& context, const DeviceSat& table, cl_mem receivers_uvz, 
         throw input_error("soft: too many receivers in one call (" + std::to_string(count) + ")");
     detail::ContextImpl& impl = context.impl();
     cl::Kernel& kernel =
-        impl.kernel("sat_soft.cl",
-                    {std::string("MSM_DEPTH_ZERO_ONE=") + (options.depth_range == DepthRange::zero_one ? "1" : "0")},
-                    "sat_soft_shade");
+        impl.kernel("sat_soft.cl", detail::soft_defines(options.depth_range), "sat_soft_shade");
     const cl::CommandQueue queue = impl.queue_for(enqueue);
     std::vector<cl::Event> waits = detail::wait_list(enqueue);
     cl::Event done;
@@ -131,7 +138,7 @@ std::vector<float> soft_shade(Context& context, const SatTable& table, const Rec
     detail::ContextImpl& impl = context.impl();
     const std::size_t table_bytes = table.words.size() * sizeof(std::uint32_t);
     if (impl.info.max_alloc_bytes != 0 && table_bytes > impl.info.max_alloc_bytes)
-        throw input_error("soft: a " + std::to_string(table.width) + "x" + std::to_string(table.height) +
+        throw device_error("soft: a " + std::to_string(table.width) + "x" + std::to_string(table.height) +
                           " table exceeds the device's largest buffer (" + std::to_string(impl.info.max_alloc_bytes) +
                           " bytes)");
     cl_int status = CL_SUCCESS;
