@@ -9,6 +9,7 @@
 #include "io/ktx2.hpp"
 
 #include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
 #include <msmcl/scatter.hpp>
 
 #include <cerrno>
