@@ -16,6 +16,7 @@
 // it), which makes the skip a failure.
 #include "data/scatter/scatter_geometry.hpp"
 #include "filter_fixtures.hpp"
+#include "io/scene_json.hpp"
 #include "seeded_test.hpp"
 
 #include <msmcl/context.hpp>
