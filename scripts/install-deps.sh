@@ -8,6 +8,7 @@ packages=(
   libopenexr-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   glslang-tools
+  oclgrind
   mesa-vulkan-drivers libvulkan-dev spirv-tools
   strace
   # Sanitizer builds and libFuzzer (scripts/ci-sanitize.sh, scripts/ci-fuzz.sh): clang-15 below.
