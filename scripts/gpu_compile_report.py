@@ -218,12 +218,16 @@ def layers_of(variant):
     return 0
 
 
-def row_key(variant, kernel):
-    """Report rows: a kernel, with translucent variants of 1 and 8 layers apart."""
+def row_key(variant, kernel, gpu_kernels):
+    """Report rows: a kernel, with translucent variants of 1 and 8 layers apart, and the
+    CPU variants of a GPU-path kernel (scatter's CPU row tiling) apart."""
+    key = kernel["name"]
     layers = layers_of(variant)
     if layers and variant["file"] != "sat_translucent.cl":
-        return f"{kernel['name']} ({layers} layer{'s' if layers > 1 else ''})"
-    return kernel["name"]
+        key += f" ({layers} layer{'s' if layers > 1 else ''})"
+    if not kernel["gpu_path"] and kernel["name"] in gpu_kernels:
+        key += " (CPU variant)"
+    return key
 
 
 def compile_all(tools, variants, directory, jobs):
@@ -268,9 +272,10 @@ def build_rows(variants, results):
     """Per report row and target: the worst figures over the row's variants."""
     rows = {}
     targets = list(AMD_TARGETS) + INTEL_DEVICES + ["nvptx"]
+    gpu_kernels = {k["name"] for v in variants for k in v["kernels"] if k["gpu_path"]}
     for index, variant in enumerate(variants):
         for kernel in variant["kernels"]:
-            key = row_key(variant, kernel)
+            key = row_key(variant, kernel, gpu_kernels)
             row = rows.setdefault(key, {"kernel": kernel["name"], "file": variant["file"],
                                         "gpu_path": kernel["gpu_path"], "layers": layers_of(variant),
                                         "variants": 0, "targets": {}})
