@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
             // The source exactly as ContextImpl::kernel hands it to clCreateProgramWithSource.
             const std::string name = "v" + std::to_string(index++) + ".cl";
             std::ofstream(std::filesystem::path(out_dir) / name, std::ios::binary)
-                << msmcl::detail::assemble_variant_source(variant.file, variant.defines);
+                << msmcl::detail::kernel_source(variant.file, variant.defines).text;
             nlohmann::json kernels = nlohmann::json::array();
             for (const auto& kernel : variant.kernels) kernels.push_back({{"name", kernel.name}, {"gpu_path", kernel.gpu_path}});
             list.push_back({{"source", name},

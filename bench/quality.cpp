@@ -1,4 +1,4 @@
-// msmcl-quality: the quality table of issue 7. For each scene, shades the view's receivers
+// msmcl-quality: the quality table (docs/methods.md). For each scene, shades the view's receivers
 // with every msmcl format (filter + shade on the device) and with variance shadow maps
 // (32 and 64 bit) of the same resolve and blur, and compares the shadow intensities with
 // 128-bit moments and with the percentage-closer ground truth of the same 9x9 Gaussian.
@@ -44,7 +44,7 @@ constexpr double depth_bias = 1e-3;         // internal depth, shade's default
 constexpr double error_threshold = 0.03;    // "off by more than 3%"
 constexpr double large_error_threshold = 0.10;
 constexpr double vsm_min_variance = 1e-5;   // in [0,1] depth units
-constexpr double alpha_128 = 3e-7;          // moments128 bias and Algorithm 2's input bias (SPEC 3)
+constexpr double alpha_128 = 3e-7;          // moments128 bias and Algorithm 2's input bias (docs/math.md)
 constexpr double bstar_128 = 0.375;
 // Light leak on the banner: receivers there that the railing shadows (truth >= 0.5); a
 // receiver leaks when the method is lighter than the truth by more than 0.1.
@@ -285,7 +285,7 @@ public:
         const std::size_t texels = moments_.size();
         for (auto& list : nlq_) list.resize(texels);
         parallel_for(texels, [&](std::size_t t) {
-            // Algorithm 2 on the biased moments, then the 16-bit codes of SPEC section 3.
+            // Algorithm 2 on the biased moments, then the 16-bit codes of docs/formats.md.
             const ref::Nlq exact = ref::nlq_from_moments(ref::bias(moments_[t], alpha_128, bstar_128));
             const ref::Nlq quantized = ref::decode_nlq64(ref::encode_nlq64(exact));
             nlq_[index(Texels::exact_nlq)][t] = exact;

@@ -1,4 +1,4 @@
-// Cases of the summed-area table work (issue 3), all on the workload's device and depth map,
+// Cases of the summed-area table work (docs/kernels.md), all on the workload's device and depth map,
 // measured once per (size, samples) (the rows carry format msm64, the basis the table uses):
 //   sat_copy            a kernel moving the table's minimum bytes (the S depths in, 16 bytes
 //                       out per texel): the memory roof of the SAT rows, the faster of a copy

@@ -1,13 +1,14 @@
 // msmcl-scatter-bench: cost of prefiltered single scattering on one OpenCL device, per
 // rectified texel (resampling + prefix sums, filtered and unfiltered, 4 and 6 moments) and
 // per output pixel (evaluation), against ray marching the shadow map with 32 and 128 samples
-// per pixel on the same device (seed 001, Figure 8; seed 000, "Results").
+// per pixel on the same device (Peters et al., i3D 2016, Figure 8; Peters, GDC Europe 2016, "Results").
 //   msmcl-scatter-bench [--scene data/scatter/pergola.json] [--map-size 1024] [--rectified 1024]
 //                       [--width 1920] [--height 1080] [--reps 7] [--device D] [--json FILE]
 // Every timed call ends with clFinish; two untimed warm-up calls first (program builds,
 // first-launch compilation). Wall-clock medians and minima in milliseconds, and the median
 // CPU time of the process (all threads): on a shared machine the steadier figure of the work.
 #include "data/scatter/scatter_geometry.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>

@@ -1,4 +1,4 @@
-// Cases of issue 5 on the workload's device and depth map:
+// Cases of the translucent-occluder and dithering work (docs/math.md) on the workload's device and depth map:
 //   shade_nearest, shade_bilinear, shade_dither
 //                         shade 2^18 receivers (a 512 x 512 view of random points on the
 //                         map's surface) from the workload's texture with each lookup; the

@@ -1,4 +1,4 @@
-# The blue-noise textures of the dithered lookup (SPEC section 7), generated at build time by
+# The blue-noise textures of the dithered lookup (docs/math.md), generated at build time by
 # void-and-cluster (host/bluenoise/) and compiled into the library
 # (host/shading/blue_noise.cpp includes generated/blue_noise_table.inc; without this step
 # the library generates the same table on first use). Include after msmcl_objects is defined.

@@ -1,6 +1,6 @@
 // The fused filter (resolve -> 9x9 Gaussian -> quantize, one global write) distributed
 // for CPU devices. PoCL turns the code between two barriers into a loop over the
-// work-items and vectorizes that loop (../shared/POCL-NOTES.md). This kernel is written
+// work-items and vectorizes that loop (docs/devices.md). This kernel is written
 // for that:
 //  - scalar code; work-item x works on texel column x, so consecutive work-items touch
 //    consecutive floats;
@@ -24,7 +24,7 @@
 //   a barrier after each phase, and one to advance the row.
 // Same math headers, taps and float operation order as filter_fused_gpu.cl and
 // filter_three_pass.cl: moments128 and msm64 equal them bit for bit; the nlq formats shift
-// the moments by the midrange c of the tile's input depths (SPEC section 3, see
+// the moments by the midrange c of the tile's input depths (docs/math.md, see
 // shift_partials).
 // Compile-time: MSM_SAMPLES, MSM_FORMAT, MSM_DEPTH_ZERO_ONE, MSM_LAYERS as for
 // filter_fused_gpu.cl; CPU_TILE_W, CPU_TILE_H: tuning parameters (host/ops/filter.cpp).
@@ -69,7 +69,7 @@ static inline float cpu_expf(float x) {
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
 
-// Translucent layers (MSM_LAYERS > 0, SPEC section 7): the resolve composites each sample's
+// Translucent layers (MSM_LAYERS > 0, docs/math.md): the resolve composites each sample's
 // surfaces (msm_translucent.clh) instead of taking b(z), and the kernels take the layers'
 // depths and opacities as two more arguments; 0 compiles the opaque code alone.
 #ifndef MSM_LAYERS
@@ -110,7 +110,7 @@ static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 // The local id as every phase of row r uses it: plus r * zero, where `zero` is a kernel
 // argument that is always 0. Without the row in it, the compiler hoists id-derived
 // indices (x * S, x + const) out of the row loop; PoCL then keeps them per work-item
-// across the barriers and every access through them becomes a gather (POCL-NOTES 2).
+// across the barriers and every access through them becomes a gather (docs/devices.md, PoCL).
 // Constant and uniform offsets go into base pointers, never into an integer sum with the
 // id (the compiler would regroup that sum and hoist the id part again).
 #define CPU_X(r) ((size_t)get_local_id(0) + (size_t)((r) * zero))
@@ -119,7 +119,7 @@ static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 // code before it builds the loops over the work-items, and its SLP vectorizer, which
 // works within one basic block, would fuse independent, identical computations of one
 // work-item (the samples of a texel, the moment planes, the channels of a code) into
-// vectors; any vector value stops the vectorization across work-items (POCL-NOTES 1).
+// vectors; any vector value stops the vectorization across work-items (docs/devices.md, PoCL).
 // The condition tests a value just computed (`bits`: a code below 0xffff0000, the upper
 // half of one with a zero low half, or a finite float's bits) against a pattern it cannot
 // have, distinct per `tag` (1 to 0xffff), through `zero` (else the compiler would see
@@ -130,7 +130,7 @@ static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 #define CPU_END_BLOCK(tag, bits) \
     if (((bits) ^ (uint)zero) == 0xffff0000u + (uint)(tag)) texture[x] = (bits)
 
-// The shift c of the nlq formats (SPEC section 3), as in filter_fused_gpu.cl: the midrange
+// The shift c of the nlq formats (docs/math.md), as in filter_fused_gpu.cl: the midrange
 // (min + max) / 2 of the internal depths z < 1 of sample 0 of the tile's input texels
 // (CPU_IN_W x (CPU_TILE_H + 8), clamped into the image as the resolve clamps them); 1 if
 // all are on the far plane, which takes no part (it would pull c halfway away from the
@@ -405,7 +405,7 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 // Quantization: one phase per channel and a barrier between phases. Within one phase
 // there is a single chain of work per work-item (the compiler drops the other channels of
 // each encoder call), so the SLP vectorizer finds nothing to fuse, and no code moves
-// across a barrier (POCL-NOTES 1). The texel's words collect in the `words` planes and
+// across a barrier (docs/devices.md, PoCL). The texel's words collect in the `words` planes and
 // the last phase stores them (adjacent stores of values loaded from different planes:
 // not worth fusing for the SLP vectorizer, and a contiguous, interleaved store once
 // vectorized across work-items). The nlq representation (y1, y2, v2, xi4) replaces the

@@ -1,4 +1,4 @@
-// The fused filter kernel of Peters 2017, section 4.1 (SPEC section 4): one work-group of
+// The fused filter kernel of Peters, HPG 2017, section 4.1 (docs/kernels.md): one work-group of
 // 256 work-items (8 sub-groups of 32) turns a 40x32 input block (output block 32x24 plus a
 // guard band of 4) into 32x24 filtered, quantized texels, all in local memory:
 // resolve -> horizontal 9-tap -> vertical 9-tap -> readout + quantize, one global write.
@@ -14,7 +14,7 @@
 #include "msm_translucent.clh"
 #include "fused_layout.clh"
 
-// Translucent layers (MSM_LAYERS > 0, SPEC section 7): the resolve composites each sample's
+// Translucent layers (MSM_LAYERS > 0, docs/math.md): the resolve composites each sample's
 // surfaces (msm_translucent.clh) instead of taking b(z); 0 compiles the opaque code alone.
 #ifndef MSM_LAYERS
 #define MSM_LAYERS 0
@@ -22,7 +22,7 @@
 
 #if MSM_FORMAT == 2 || MSM_FORMAT == 3
 // nlq formats: blur the moments of (z - c), c = the midrange of the depths of the block's
-// input texels short of the far plane (SPEC section 3): no rendered texel lies more than half
+// input texels short of the far plane (docs/math.md): no rendered texel lies more than half
 // the block's depth range from c.
 #define FILTER_SHIFTED 1
 #else

@@ -1,4 +1,4 @@
-// The baseline the paper compares against (Peters 2017, section 4): three passes through
+// The baseline the paper compares against (Peters, HPG 2017, section 4): three passes through
 // global memory. (a) resolve -> float4 moments, (b) horizontal 9-tap -> float4 moments,
 // (c) vertical 9-tap + bias + quantize -> texture. Unshifted moments (c = 0).
 // Same compile-time defines (MSM_LAYERS included), taps and float operations as
@@ -6,7 +6,7 @@
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
 
-// Translucent layers (MSM_LAYERS > 0, SPEC section 7): the resolve composites each sample's
+// Translucent layers (MSM_LAYERS > 0, docs/math.md): the resolve composites each sample's
 // surfaces (msm_translucent.clh) instead of taking b(z); 0 compiles the opaque code alone.
 #ifndef MSM_LAYERS
 #define MSM_LAYERS 0

@@ -1,4 +1,4 @@
-// Integer modular summed-area table (SPEC section 5): input texels -> uint32 channels ->
+// Integer modular summed-area table (docs/math.md): input texels -> uint32 channels ->
 // prefix sums in x and y, wrapping mod 2^32 (any order of additions gives the same bits).
 //
 // Tiled scan for GPUs (work-efficient: every texel is added once per direction, plus
@@ -14,7 +14,7 @@
 // loads), then each work-item walks one row of one channel of the strip (4 channels x
 // TILE/4 rows = TILE walkers), in a rotated layout where both walks hit distinct banks.
 // No work-group waits for another. sat_build_cpu.cl is the same algorithm for CPUs.
-// Baseline (one thread per row, as in seed 001): sat_rows_per_thread then
+// Baseline (one thread per row, as in Peters et al., i3D 2016): sat_rows_per_thread then
 // sat_columns_per_thread.
 //
 // Compile-time: MSM_SAT_SOURCE 0 = depth map (MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; moments
@@ -179,7 +179,7 @@ void sat_tile_scan(__global const SOURCE_TYPE* source, int width, int height, ui
     }
 }
 
-// Baseline, horizontal: one work-item per row, texels converted on the fly (seed 001).
+// Baseline, horizontal: one work-item per row, texels converted on the fly (Peters et al., i3D 2016).
 __kernel void sat_rows_per_thread(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                   __global uint* table) {
     const size_t y = get_global_id(0);

@@ -1,4 +1,4 @@
-// Moment soft shadow mapping (seed 001 section 3): shades receiver points from an integer
+// Moment soft shadow mapping (Peters et al., i3D 2016, section 3): shades receiver points from an integer
 // modular summed-area table, one work-item per receiver (kernels/msm_sat.clh).
 // Compile-time: MSM_DEPTH_ZERO_ONE (1: receiver z in [0,1], 0: in [-1,1]).
 #include "msm_sat.clh"

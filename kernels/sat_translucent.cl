@@ -1,4 +1,4 @@
-// Summed-area tables of translucent shadow maps (SPEC sections 5 and 7): the integer texels
+// Summed-area tables of translucent shadow maps (docs/math.md): the integer texels
 // of a depth map with translucent layers, for the prefix sums of sat_build*.cl
 // (MSM_SAT_SOURCE 1). Per texel: each sample's surfaces composited (msm_translucent.clh),
 // the mean over the samples, quantized as msm_sat_texel_of_depth quantizes opaque texels.

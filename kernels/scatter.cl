@@ -1,4 +1,4 @@
-// scatter: prefiltered single scattering (SPEC section 6; math in msm_scatter.clh).
+// scatter: prefiltered single scattering (docs/math.md; math in msm_scatter.clh).
 //   scatter_prefilter: one work-group per rectified row (one azimuth phi). Each work-item
 //     resamples MSM_SCATTER_SEGMENT consecutive texels of a chunk of the row (filtered or
 //     unfiltered, generated on the fly: no separate resampling pass), a work-group scan of

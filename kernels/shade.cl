@@ -1,4 +1,4 @@
-// shade: evaluates a filtered moment shadow map at receiver points (SPEC section 8).
+// shade: evaluates a filtered moment shadow map at receiver points (docs/math.md, Lookups).
 // Compile-time: MSM_FORMAT (0 moments128, 1 msm64, 2 nlq64, 3 nlq32; the order of
 // msmcl::Format), MSM_LOOKUP (0 nearest, 1 bilinear, 2 dither: kernel shade_dither),
 // MSM_DEPTH_ZERO_ONE (1 for [0,1]); for dither MSM_RECEIVER_PIXELS (1: a buffer of screen

@@ -12,7 +12,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 
 # Build the CLI and the sample-data tools; generate the larger sample scenes (1024^2).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-scatter-scene msmcl-quality
+cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-scatter-scene msmcl-quality msmcl-vulkan
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
 tools=$build/data
@@ -42,6 +42,23 @@ for entry in "${scenes[@]}"; do
     done
   done
 done
+# The same textures in a renderer: the railing view's shadow from the nlq32 and msm64 KTX2
+# files, uploaded into Vulkan images and shaded by shaders/msm.glsl on the Vulkan device
+# (lavapipe on a CPU-only machine), beside the OpenCL PNG, and the signed difference
+# Vulkan - OpenCL over a dimmed copy of the OpenCL shadow (red: Vulkan darker, blue:
+# lighter; full colour at 1e-6 for nlq32, the same float32 math, and at 1e-4 for msm64,
+# where the shader's float32 4MSM meets the kernel's float-float one).
+vulkan=$build/examples/vulkan/msmcl-vulkan
+for entry in nlq32:1e-6 msm64:1e-4; do
+  IFS=: read -r format diff_scale <<<"$entry"
+  base=$out/railing_1024_${format}_bilinear
+  "$msmcl" filter "$tools/railing_1024x1024_8x.exr" "$out/railing_1024_${format}.ktx2" --format "$format"
+  "$vulkan" shade "$out/railing_1024_${format}.ktx2" "$tools/railing_view_640x480.exr" "${base}_vulkan_shadow.exr" --lookup bilinear
+  "$tools/msmcl-preview" "${base}_vulkan_shadow.exr" "${base}_vulkan.png" --lighting "$tools/railing_view_640x480_lighting.exr"
+  echo -n "railing_1024 $format bilinear, Vulkan - OpenCL: "
+  "$vulkan" compare "${base}_shadow.exr" "${base}_vulkan_shadow.exr" --diff-png "${base}_vulkan_diff.png" --diff-scale "$diff_scale"
+done
+
 # Soft shadows: a summed-area table of the moments, then moment soft shadow mapping with a
 # directional light of finite size (contact hardening at the railing posts, at Wuson's feet).
 for entry in "${scenes[@]}"; do

@@ -84,7 +84,7 @@ msm_moments msm_bias(msm_moments b, float alpha, float bstar) {
     return m;
 }
 
-// ---- Hamburger 4MSM (Algorithm 1 of Peters 2017, the GDC 2016 HLSL with SPEC's fixes).
+// ---- Hamburger 4MSM (Algorithm 1 of Peters, HPG 2017, the GDC 2016 HLSL with the fixes of docs/math.md).
 msm_hamburger_bounds msm_hamburger4_factored(float b1, float b2, float d22, float l32, float d33, float zf) {
     msm_hamburger_bounds result;
     float inv_d22 = 1.0f / d22;
@@ -223,7 +223,7 @@ msm_moments msm_decode_moments128(float4 texel) {
     return m;
 }
 
-// msm64: the inverse affine transform of SPEC section 3 (unbiased moments).
+// msm64: the inverse affine transform of docs/math.md (unbiased moments).
 msm_moments msm_decode_msm64(float4 channels) {
     float r = channels.x - 0.5f;
     float g = channels.y;
@@ -282,7 +282,7 @@ float msm_shadow_nlq64(float4 channels, float zf) { return msm_nlq_shadow(msm_de
 
 float msm_shadow_nlq32(uint w, float zf) { return msm_nlq_shadow(msm_decode_nlq32(w), zf); }
 
-// ---- Lookups (SPEC section 8), clamped to the edge; u, v in texels.
+// ---- Lookups (docs/math.md, Lookups), clamped to the edge; u, v in texels.
 
 // Texel floor(coordinate) clamped to [0, size - 1] (NaN -> 0): the nearest lookup.
 int msm_texel_index(float coordinate, int size) {
@@ -421,7 +421,206 @@ float msm_lookup_nlq32(Texture2D<uint4> map, int width, int height, float u, flo
                         msm_shadow_nlq32(map.Load(int3(k.x1, k.y1, 0)).x, zf), k.tx, k.ty);
 }
 
-// ---- Summed-area tables and moment soft shadows (msm_sat.clh; SPEC section 5).
+// ---- Accurate moments128 (msm_shadow_moments128 of msm_shading.clh): the fast path above
+// loses up to ~0.5 at contact shadows, because moments128's bias (3e-7) is below float32
+// rounding. This path takes the moments about their own mean in float-float arithmetic
+// (msm_df.clh) as msmcl's shade kernel does, ~5x the arithmetic of the fast path. Shaders
+// cannot count on an exactly fused multiply-add (Vulkan lets fma() round twice; HLSL has
+// none for float), so products are split (Veltkamp, Dekker's TwoProd): exact with correctly
+// rounded float32 add and multiply, which Vulkan and D3D require. `precise` keeps the
+// compiler from contracting or re-associating the error terms (they would fold to zero).
+struct msm_df {
+    float hi;
+    float lo;
+};
+struct msm_moments_df {
+    msm_df b1;
+    msm_df b2;
+    msm_df b3;
+    msm_df b4;
+};
+
+msm_df msm_df_make(float hi, float lo) {
+    msm_df r;
+    r.hi = hi;
+    r.lo = lo;
+    return r;
+}
+
+msm_df msm_df_from_float(float a) { return msm_df_make(a, 0.0f); }
+
+// s + e = a + b exactly (TwoSum).
+msm_df msm_two_sum(float a, float b) {
+    precise float s = a + b;
+    precise float b_virtual = s - a;
+    precise float a_virtual = s - b_virtual;
+    precise float e = (a - a_virtual) + (b - b_virtual);
+    return msm_df_make(s, e);
+}
+
+// s + e = a + b exactly for |a| >= |b| or a = 0 (FastTwoSum).
+msm_df msm_fast_two_sum(float a, float b) {
+    precise float s = a + b;
+    precise float e = b - (s - a);
+    return msm_df_make(s, e);
+}
+
+// a = hi + lo with 12 significant bits in hi (Veltkamp's split, 4097 = 2^12 + 1).
+msm_df msm_split(float a) {
+    precise float c = 4097.0f * a;
+    precise float hi = c - (c - a);
+    precise float lo = a - hi;
+    return msm_df_make(hi, lo);
+}
+
+// p + e = a * b exactly (Dekker's TwoProd; the same pair as msm_df.clh's fma version).
+msm_df msm_two_prod(float a, float b) {
+    precise float p = a * b;
+    msm_df x = msm_split(a);
+    msm_df y = msm_split(b);
+    precise float e = ((x.hi * y.hi - p) + x.hi * y.lo + x.lo * y.hi) + x.lo * y.lo;
+    return msm_df_make(p, e);
+}
+
+msm_df msm_df_neg(msm_df a) { return msm_df_make(-a.hi, -a.lo); }
+
+msm_df msm_df_scale_pow2(msm_df a, float s) { return msm_df_make(a.hi * s, a.lo * s); }
+
+// a + b, relative error <= 3u^2 for one sign, absolute ~2u^2 (|a| + |b|) under cancellation.
+msm_df msm_df_add_sloppy(msm_df a, msm_df b) {
+    msm_df s = msm_two_sum(a.hi, b.hi);
+    precise float lo = s.lo + (a.lo + b.lo);
+    return msm_fast_two_sum(s.hi, lo);
+}
+
+msm_df msm_df_sub_sloppy(msm_df a, msm_df b) { return msm_df_add_sloppy(a, msm_df_neg(b)); }
+
+// a + b for a float b.
+msm_df msm_df_add_f(msm_df a, float b) {
+    msm_df s = msm_two_sum(a.hi, b);
+    precise float lo = a.lo + s.lo;
+    return msm_fast_two_sum(s.hi, lo);
+}
+
+// a * b for a float b.
+msm_df msm_df_mul_f(msm_df a, float b) {
+    msm_df c = msm_two_prod(a.hi, b);
+    precise float lo = a.lo * b + c.lo;
+    return msm_fast_two_sum(c.hi, lo);
+}
+
+// a * b.
+msm_df msm_df_mul(msm_df a, msm_df b) {
+    msm_df c = msm_two_prod(a.hi, b.hi);
+    precise float cross = a.lo * b.hi + (a.hi * b.lo + a.lo * b.lo);
+    precise float lo = c.lo + cross;
+    return msm_fast_two_sum(c.hi, lo);
+}
+
+// a + t (b - a) for t in [0,1].
+msm_df msm_df_lerp(msm_df a, msm_df b, float t) { return msm_df_add_sloppy(a, msm_df_mul_f(msm_df_sub_sloppy(b, a), t)); }
+
+// The same blend of two floats, held exactly until the product.
+msm_df msm_df_lerp_f(float a, float b, float t) { return msm_df_add_f(msm_df_mul_f(msm_two_sum(b, -a), t), a); }
+
+msm_moments_df msm_moments_df_from_float(msm_moments m) {
+    msm_moments_df r;
+    r.b1 = msm_df_from_float(m.b1);
+    r.b2 = msm_df_from_float(m.b2);
+    r.b3 = msm_df_from_float(m.b3);
+    r.b4 = msm_df_from_float(m.b4);
+    return r;
+}
+
+// Bilinear blend (x first, then y) of float moments, in float-float.
+msm_moments_df msm_moments_df_bilinear_f(msm_moments m00, msm_moments m10, msm_moments m01, msm_moments m11, float tx,
+                                         float ty) {
+    msm_moments_df m;
+    m.b1 = msm_df_lerp(msm_df_lerp_f(m00.b1, m10.b1, tx), msm_df_lerp_f(m01.b1, m11.b1, tx), ty);
+    m.b2 = msm_df_lerp(msm_df_lerp_f(m00.b2, m10.b2, tx), msm_df_lerp_f(m01.b2, m11.b2, tx), ty);
+    m.b3 = msm_df_lerp(msm_df_lerp_f(m00.b3, m10.b3, tx), msm_df_lerp_f(m01.b3, m11.b3, tx), ty);
+    m.b4 = msm_df_lerp(msm_df_lerp_f(m00.b4, m10.b4, tx), msm_df_lerp_f(m01.b4, m11.b4, tx), ty);
+    return m;
+}
+
+// Moments of z - c from the moments of z (binomial expansion, Horner in u = -c).
+msm_moments_df msm_moments_df_about(msm_moments_df b, float c) {
+    float u = 0.0f - c;
+    msm_moments_df m;
+    m.b1 = msm_df_add_f(b.b1, u);
+    m.b2 = msm_df_add_sloppy(b.b2, msm_df_mul_f(msm_df_add_f(msm_df_scale_pow2(b.b1, 2.0f), u), u));
+    msm_df t = msm_df_add_f(msm_df_mul_f(b.b1, 3.0f), u);
+    t = msm_df_add_sloppy(msm_df_mul_f(b.b2, 3.0f), msm_df_mul_f(t, u));
+    m.b3 = msm_df_add_sloppy(b.b3, msm_df_mul_f(t, u));
+    t = msm_df_add_f(msm_df_scale_pow2(b.b1, 4.0f), u);
+    t = msm_df_add_sloppy(msm_df_mul_f(b.b2, 6.0f), msm_df_mul_f(t, u));
+    t = msm_df_add_sloppy(msm_df_scale_pow2(b.b3, 4.0f), msm_df_mul_f(t, u));
+    m.b4 = msm_df_add_sloppy(b.b4, msm_df_mul_f(t, u));
+    return m;
+}
+
+// The bias b' = (1 - alpha) b + alpha (0, bstar, 0, bstar) applied to the moments of z - c.
+msm_moments_df msm_bias_about_df(msm_moments_df m, float c, float alpha, float bstar) {
+    precise float c2 = c * c;
+    precise float t1 = 0.0f - c;
+    precise float t2 = bstar + c2;
+    precise float t3 = 0.0f - c * (3.0f * bstar + c2);
+    precise float t4 = bstar + c2 * (6.0f * bstar + c2);
+    precise float d1 = alpha * (t1 - m.b1.hi);
+    precise float d2 = alpha * (t2 - m.b2.hi);
+    precise float d3 = alpha * (t3 - m.b3.hi);
+    precise float d4 = alpha * (t4 - m.b4.hi);
+    msm_moments_df r;
+    r.b1 = msm_df_add_f(m.b1, d1);
+    r.b2 = msm_df_add_f(m.b2, d2);
+    r.b3 = msm_df_add_f(m.b3, d3);
+    r.b4 = msm_df_add_f(m.b4, d4);
+    return r;
+}
+
+// 4MSM bounds from biased float-float moments of z - c (zf in the same frame).
+msm_hamburger_bounds msm_hamburger4_df(msm_moments_df m, float zf) {
+    msm_df d22 = msm_df_sub_sloppy(m.b2, msm_df_mul(m.b1, m.b1));
+    if (!(d22.hi > 0.0f)) return msm_hamburger_step(m.b1.hi, zf);
+    msm_df l32_d22 = msm_df_sub_sloppy(m.b3, msm_df_mul(m.b1, m.b2));
+    msm_df d33_d22 = msm_df_sub_sloppy(msm_df_mul(msm_df_sub_sloppy(m.b4, msm_df_mul(m.b2, m.b2)), d22),
+                                       msm_df_mul(l32_d22, l32_d22));
+    float inv_d22 = 1.0f / d22.hi;
+    return msm_hamburger4_factored(m.b1.hi, m.b2.hi, d22.hi, l32_d22.hi * inv_d22, d33_d22.hi * inv_d22, zf);
+}
+
+// Lower bound from unbiased moments: about c = b1, biased there, the 4MSM at zf - c.
+float msm_shadow_linear_df(msm_moments_df raw, float alpha, float bstar, float zf) {
+    float c = raw.b1.hi;
+    msm_moments_df biased = msm_bias_about_df(msm_moments_df_about(raw, c), c, alpha, bstar);
+    return msm_hamburger4_df(biased, zf - c).lower;
+}
+
+float msm_shadow_moments128(msm_moments raw, float zf) {
+    return msm_shadow_linear_df(msm_moments_df_from_float(raw), MSM_ALPHA_FLOAT, MSM_BSTAR_FLOAT, zf);
+}
+
+float msm_shadow_moments128_df(msm_moments_df raw, float zf) {
+    return msm_shadow_linear_df(raw, MSM_ALPHA_FLOAT, MSM_BSTAR_FLOAT, zf);
+}
+
+// msm_lookup_moments128 with the accurate path: what msmcl's shade kernel computes.
+float msm_lookup_moments128_accurate(Texture2D<float4> map, int width, int height, float u, float v, float zf, int lookup,
+                                     float2 noise) {
+    if (lookup != 1) {
+        int2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_moments128(msm_decode_moments128(map.Load(int3(t.x, t.y, 0))), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_shadow_moments128_df(msm_moments_df_bilinear_f(msm_decode_moments128(map.Load(int3(k.x0, k.y0, 0))),
+                                                              msm_decode_moments128(map.Load(int3(k.x1, k.y0, 0))),
+                                                              msm_decode_moments128(map.Load(int3(k.x0, k.y1, 0))),
+                                                              msm_decode_moments128(map.Load(int3(k.x1, k.y1, 0))),
+                                                              k.tx, k.ty),
+                                    zf);
+}
+
+// ---- Summed-area tables and moment soft shadows (msm_sat.clh; docs/math.md).
 struct msm_sat_sum {
     uint c0;
     uint c1;
@@ -659,7 +858,7 @@ float msm_sat_soft_shadow(Texture2D<uint4> table, msm_sat_soft_params p, float u
     return msm_hamburger4_lower(msm_bias(b, MSM_SAT_ALPHA, MSM_SAT_BSTAR), zf);
 }
 
-// ---- Prefiltered single scattering (msm_scatter.clh; SPEC section 6): decoding the
+// ---- Prefiltered single scattering (msm_scatter.clh; docs/math.md): decoding the
 // six-moment textures (two RGB10_A2 unorm, bilinear filtering allowed) and the bounds.
 struct msm_moments6 {
     float b1;
@@ -834,7 +1033,7 @@ msm_moments6 msm_scatter_bias6(msm_moments6 b) {
 }
 
 // Shadow of a view ray at rectified depth zf from prefix-summed moments, blended by beta
-// ((1 + dot(light direction, view direction)) / 2 in SPEC section 6). The bias distribution
+// ((1 + dot(light direction, view direction)) / 2 in docs/math.md). The bias distribution
 // (arcsine on [-1, 1]) has the share 1/2 + asin(zf) / pi below zf: taken out again, so the
 // bounds are those of the stored moments (no uniform leak of up to alpha in full shadow).
 float msm_scatter_shadow6(msm_moments6 unbiased, float zf, float beta) {

@@ -1,4 +1,4 @@
-// The blue-noise textures of the dithered lookup (SPEC section 7): the table the library
+// The blue-noise textures of the dithered lookup (docs/math.md): the table the library
 // embeds (msmcl::blue_noise_textures(), generated at build time by host/bluenoise/) is what
 // void-and-cluster makes from the library's seed; every channel is a permutation of equally
 // spaced levels; the textures tile seamlessly; their spectrum has far less low-frequency
@@ -7,7 +7,7 @@
 #include "bluenoise/void_and_cluster.hpp"
 
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <gtest/gtest.h>
 

@@ -138,7 +138,7 @@ static void test_host_filter(msmcl_context* context, const float* depth) {
             b[2] += z * z * z / SAMPLES;
             b[3] += z * z * z * z / SAMPLES;
         }
-        /* msm64 affine basis (SPEC section 3), rounded to nearest unorm16. */
+        /* msm64 affine basis (docs/math.md), rounded to nearest unorm16. */
         double channel[4] = {1.5 * b[0] - 2.0 * b[2] + 0.5, 4.0 * b[1] - 4.0 * b[3],
                              sqrt(3.0) * (0.5 * b[0] - 2.0 * b[2] / 9.0) + 0.5, 0.5 * b[1] + 0.5 * b[3]};
         for (int j = 0; j < 4; ++j) {
@@ -170,6 +170,20 @@ static void test_host_filter(msmcl_context* context, const float* depth) {
         options.format = (msmcl_format)9;
         status = msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, codes, 8);
         CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT, "%s: %s", msmcl_status_name(status), msmcl_last_error_message());
+        /* Values outside every enum (any int can come from C) are argument errors; the library
+           reads them as integers (an ASan+UBSan build checks that no enum load sees them). */
+        options.format = MSMCL_FORMAT_NLQ64;
+        options.kernel = (msmcl_filter_kernel)-7;
+        status = msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, codes, 8);
+        CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "filter kernel -7"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+        options.kernel = MSMCL_FILTER_KERNEL_AUTOMATIC;
+        options.depth_range = (msmcl_depth_range)1000;
+        status = msmcl_filter(context, depth, WIDTH, HEIGHT, SAMPLES, &options, codes, 8);
+        CHECK(status == MSMCL_ERROR_INVALID_ARGUMENT && strstr(msmcl_last_error_message(), "depth range 1000"), "%s: %s",
+              msmcl_status_name(status), msmcl_last_error_message());
+        CHECK(msmcl_texel_bytes((msmcl_format)-1) == 0 && msmcl_format_name((msmcl_format)1 << 20) == NULL,
+              "out-of-range formats");
         free(bad);
     }
     free(moments);
@@ -390,7 +404,7 @@ static void layer_views(const float* layer_depth, const float* layer_opacity, ms
     }
 }
 
-/* Double reference (SPEC section 7): the sample's surfaces sorted nearest first (the
+/* Double reference (docs/math.md): the sample's surfaces sorted nearest first (the
  * translucent ones before the opaque one at equal depth), alpha-blended front to back;
  * adds the blend's moments b1..b4 times `scale` to b. Depths in [0,1]: z = 2d - 1. */
 static void add_composite_moments(const float* depth, const float* layer_depth, const float* layer_opacity,
@@ -645,7 +659,7 @@ static void test_translucent_sat(msmcl_context* context, const float* depth) {
     CHECK(memcmp(table, expected, sizeof(uint32_t) * words) == 0, "clear layers differ from msmcl_build_sat");
 
     /* Translucent: each texel, recovered by wrapping differences, against round(c * scale) of
-     * the double msm64 channels of the composited moments (SPEC sections 3, 5). */
+     * the double msm64 channels of the composited moments (docs/math.md). */
     CHECK_OK(msmcl_build_sat_layered(context, depth, WIDTH, HEIGHT, SAMPLES, layers, LAYERS, &options, expected, words));
     for (int y = 0; y < HEIGHT; ++y)
         for (int x = 0; x < WIDTH; ++x) {

@@ -1,4 +1,4 @@
-// The msmcl executable (SPEC section 8) and the sample-data tools, run as processes.
+// The msmcl executable (docs/formats.md) and the sample-data tools, run as processes.
 // Bad input: exit 2, one line "msmcl: <file>: <problem>" on stderr, no output file and
 // no temporary file left. Device/runtime failure: exit 1. An unknown --device is a
 // device_error (strict selection), so it exits 1, not 2.

@@ -2,6 +2,11 @@
 // DDS (DX10) specifications, checked field by field against values written out here from
 // the specs, bit-identical round trips of every format (plain and arrays, random texels),
 // filtered textures through files, the CLI's --out-container, and the decoders' errors.
+// The CLI's container rules: every command that reads a texture (shade, soft) reads all
+// three containers with the same result, every command that writes one (filter, sat)
+// writes all three, an unknown output extension is exit 2 with no output, and DDS files
+// whose texels do not tell their format are refused unless --format / --max-kernel says.
+// `msmcl info` on every kind of file, as text and JSON (nlohmann-json).
 // Debian 12 packages no KTX2 tool (KTX-Software's `ktx` is not packaged) and no reader known
 // to take these DX10 DDS formats (ImageMagick 6 and Pillow 9 target DXT/BC; not tried), so
 // the layouts are pinned here instead. Seed: MSMCL_TEST_SEED (default 6).
@@ -18,6 +23,7 @@
 #include <msmcl/version.hpp>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -25,6 +31,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <string>
 #include <sys/wait.h>
@@ -373,6 +380,206 @@ TEST_F(ContainerFiles, CliWritesKtx2AndDds) {
     const std::string message = msmcl::io::read_whole_file(path("stderr.txt"));
     EXPECT_NE(message.find("--out-container 'png'"), std::string::npos) << message;
     EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+}
+
+
+// Runs the CLI through the shell; stderr goes to a file. Returns the exit code (-1 on a signal).
+class CliContainers : public ContainerFiles {
+protected:
+    void SetUp() override {
+        ContainerFiles::SetUp();
+        if (std::string(MSMCL_CLI_PATH).empty()) GTEST_SKIP() << "built without the msmcl CLI";
+        msmcl::io::write_depth_exr(path("depth.exr"), random_depth(37, 29, 2, test_seed() + 7));
+        msmcl::io::ReceiverGrid receivers;
+        receivers.width = 13;
+        receivers.height = 11;
+        std::mt19937 random(test_seed() + 8);
+        std::uniform_real_distribution<float> u(0.0f, 37.0f), v(0.0f, 29.0f), z(0.0f, 1.0f);
+        for (int i = 0; i < receivers.width * receivers.height; ++i) {
+            receivers.points.u.push_back(u(random));
+            receivers.points.v.push_back(v(random));
+            receivers.points.z.push_back(z(random));
+        }
+        msmcl::io::write_receivers_exr(path("receivers.exr"), receivers);
+    }
+    int cli(const std::string& arguments) {
+        const int status = std::system(("'" + std::string(MSMCL_CLI_PATH) + "' " + arguments + " 2>'" +
+                                        path("stderr.txt") + "'").c_str());
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    std::string err() const { return msmcl::io::read_whole_file(path("stderr.txt")); }
+    std::string q(const std::string& name) const { return "'" + path(name) + "'"; }
+    std::string bytes(const std::string& name) const { return msmcl::io::read_whole_file(path(name)); }
+    // Exit 2, one line naming `file` and containing `words`, and `output` not written.
+    void expect_refused(const std::string& arguments, const std::string& file, const std::string& words,
+                        const std::string& output) {
+        SCOPED_TRACE(arguments);
+        EXPECT_EQ(cli(arguments), 2);
+        const std::string message = err();
+        EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+        EXPECT_NE(message.find(file), std::string::npos) << message;
+        EXPECT_NE(message.find(words), std::string::npos) << message;
+        EXPECT_FALSE(fs::exists(path(output))) << output;
+    }
+};
+
+// filter writes every container; shade reads each of them and gives the same bytes.
+TEST_F(CliContainers, ShadeReadsMapsFromEveryContainer) {
+    for (const char* format : {"moments128", "msm64", "nlq64", "nlq32"}) {
+        SCOPED_TRACE(format);
+        for (const char* extension : {"exr", "ktx2", "dds"})
+            ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q(std::string("map.") + extension) + " --format " + format),
+                      0) << err();
+        // DDS maps of 16-bit texels need --format; it is harmless (and checked) elsewhere.
+        const std::string dds_format = " --format " + std::string(format);
+        ASSERT_EQ(cli("shade " + q("map.exr") + " " + q("receivers.exr") + " " + q("y_exr.exr")), 0) << err();
+        ASSERT_EQ(cli("shade " + q("map.ktx2") + " " + q("receivers.exr") + " " + q("y_ktx2.exr")), 0) << err();
+        ASSERT_EQ(cli("shade " + q("map.dds") + " " + q("receivers.exr") + " " + q("y_dds.exr") + dds_format), 0)
+            << err();
+        EXPECT_EQ(bytes("y_ktx2.exr"), bytes("y_exr.exr"));
+        EXPECT_EQ(bytes("y_dds.exr"), bytes("y_exr.exr"));
+    }
+    // The container is recognized by its bytes, not its name.
+    fs::copy_file(path("map.ktx2"), path("ktx2_named.exr"));
+    ASSERT_EQ(cli("shade " + q("ktx2_named.exr") + " " + q("receivers.exr") + " " + q("y_named.exr")), 0) << err();
+    EXPECT_EQ(bytes("y_named.exr"), bytes("y_exr.exr"));
+}
+
+// sat writes every container; soft reads each of them and gives the same bytes.
+TEST_F(CliContainers, SoftReadsTablesFromEveryContainer) {
+    for (const char* extension : {"exr", "ktx2", "dds"})
+        ASSERT_EQ(cli("sat " + q("depth.exr") + " " + q(std::string("sat.") + extension) + " --max-kernel 100"), 0)
+            << err();
+    const std::string options = " --light-size 8 --search-size 6";
+    ASSERT_EQ(cli("soft " + q("sat.exr") + " " + q("receivers.exr") + " " + q("s_exr.exr") + options), 0) << err();
+    ASSERT_EQ(cli("soft " + q("sat.ktx2") + " " + q("receivers.exr") + " " + q("s_ktx2.exr") + options), 0) << err();
+    ASSERT_EQ(cli("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("s_dds.exr") + options +
+                  " --max-kernel 100"), 0) << err();
+    EXPECT_EQ(bytes("s_ktx2.exr"), bytes("s_exr.exr"));
+    EXPECT_EQ(bytes("s_dds.exr"), bytes("s_exr.exr"));
+    // The table words themselves are the same in every container.
+    const GpuImage ktx2 = msmcl::io::read_ktx2(path("sat.ktx2"));
+    EXPECT_EQ(ktx2.find_metadata("msmcl:maxKernelTexels"), std::string("100"));
+    EXPECT_EQ(ktx2.bytes, msmcl::io::read_dds(path("sat.dds")).bytes);
+}
+
+// Unknown output extensions and contradicting --out-container: exit 2, nothing written.
+TEST_F(CliContainers, UnknownOutputExtensionsAreRefused) {
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("map.exr") + " --format nlq64"), 0) << err();
+    ASSERT_EQ(cli("sat " + q("depth.exr") + " " + q("sat.exr")), 0) << err();
+    expect_refused("filter " + q("depth.exr") + " " + q("out.png") + " --format nlq64", "out.png",
+                   "unknown output extension '.png'", "out.png");
+    expect_refused("filter " + q("depth.exr") + " " + q("noextension") + " --format nlq64", "noextension",
+                   "unknown output extension", "noextension");
+    expect_refused("filter " + q("depth.exr") + " " + q("t.ktx2") + " --format nlq64 --out-container dds", "t.ktx2",
+                   "--out-container says dds", "t.ktx2");
+    expect_refused("sat " + q("depth.exr") + " " + q("t.png"), "t.png", "unknown output extension '.png'", "t.png");
+    expect_refused("shade " + q("map.exr") + " " + q("receivers.exr") + " " + q("y.ktx2"), "y.ktx2",
+                   "name it .exr", "y.ktx2");
+    expect_refused("soft " + q("sat.exr") + " " + q("receivers.exr") + " " + q("y.png") + " --light-size 4", "y.png",
+                   "name it .exr", "y.png");
+    // An input that is no container at all.
+    std::system(("echo hello > " + q("text.exr")).c_str());
+    expect_refused("shade " + q("text.exr") + " " + q("receivers.exr") + " " + q("y.exr"), "text.exr",
+                   "not an OpenEXR, KTX2 or DDS file", "y.exr");
+}
+
+// DDS records no format and no N: msm64/nlq64 maps and tables are refused unless the user
+// says, and the error names the option; a --format that contradicts the file is refused.
+TEST_F(CliContainers, AmbiguousDdsNeedsTheUserToSay) {
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("msm.dds") + " --format msm64"), 0) << err();
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("m128.dds") + " --format moments128"), 0) << err();
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("nlq.ktx2") + " --format nlq64"), 0) << err();
+    ASSERT_EQ(cli("sat " + q("depth.exr") + " " + q("sat.dds")), 0) << err();
+    expect_refused("shade " + q("msm.dds") + " " + q("receivers.exr") + " " + q("y.exr"), "msm.dds", "--format", "y.exr");
+    expect_refused("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y.exr") + " --format nlq32",
+                   "m128.dds", "--format says nlq32", "y.exr");
+    expect_refused("shade " + q("nlq.ktx2") + " " + q("receivers.exr") + " " + q("y.exr") + " --format msm64",
+                   "nlq.ktx2", "holds a nlq64 texture", "y.exr");
+    expect_refused("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("y.exr") + " --light-size 4", "sat.dds",
+                   "--max-kernel", "y.exr");
+    // Said, they are read: moments128 DDS needs nothing.
+    EXPECT_EQ(cli("shade " + q("msm.dds") + " " + q("receivers.exr") + " " + q("y1.exr") + " --format msm64"), 0) << err();
+    EXPECT_EQ(cli("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y2.exr")), 0) << err();
+    EXPECT_EQ(cli("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("y3.exr") + " --light-size 4 --max-kernel 729"),
+              0) << err();
+}
+
+
+// msmcl info: kind, size, format, samples, layers, attributes, ranges and counts of
+// NaN/Inf/out-of-range values for every kind of file, in text and in JSON.
+TEST_F(CliContainers, InfoDescribesEveryKindOfFile) {
+    // A broken depth map (which filter refuses) is described, with its bad values counted.
+    msmcl::io::ExrImage broken;
+    broken.width = 4;
+    broken.height = 2;
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    broken.channels = {{"Z", msmcl::io::SampleType::float32, {0.5f, nan, inf, 1.5f, -0.25f, 0.0f, 1.0f, nan}, {}},
+                       {"layer0.Z", msmcl::io::SampleType::float32, std::vector<float>(8, 0.25f), {}},
+                       {"layer0.A", msmcl::io::SampleType::float32, std::vector<float>(8, 2.0f), {}}};
+    msmcl::io::write_exr(path("broken.exr"), broken);
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("map.ktx2") + " --format nlq32 --sigma 1.5"), 0) << err();
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("map.exr") + " --format msm64"), 0) << err();
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("map.dds") + " --format nlq64"), 0) << err();
+    ASSERT_EQ(cli("sat " + q("depth.exr") + " " + q("sat.exr") + " --max-kernel 100"), 0) << err();
+    ASSERT_EQ(cli("shade " + q("map.exr") + " " + q("receivers.exr") + " " + q("y.exr")), 0) << err();
+
+    const std::string files = q("broken.exr") + " " + q("depth.exr") + " " + q("receivers.exr") + " " + q("map.exr") +
+                              " " + q("map.ktx2") + " " + q("map.dds") + " " + q("sat.exr") + " " + q("y.exr");
+    ASSERT_EQ(cli("info --json " + files + " > " + q("info.json")), 0) << err();
+    const nlohmann::json all = nlohmann::json::parse(bytes("info.json"));
+    ASSERT_EQ(all.size(), 8u);
+    const auto channel = [](const nlohmann::json& info, const std::string& name) {
+        for (const nlohmann::json& c : info.at("channels"))
+            if (c.at("name") == name) return c;
+        ADD_FAILURE() << "no channel " << name << " in " << info.dump();
+        return nlohmann::json::object();
+    };
+    // Broken depth map: 2 NaN, 1 Inf, 2 finite values outside [0, 1]; opacities 2.0 outside [0, 1].
+    const nlohmann::json& depth_info = all[0];
+    EXPECT_EQ(depth_info.at("kind"), "depth map");
+    EXPECT_EQ(depth_info.at("width"), 4);
+    EXPECT_EQ(depth_info.at("samples"), 1);
+    EXPECT_EQ(depth_info.at("layers"), 1);
+    const nlohmann::json z = channel(depth_info, "Z");
+    EXPECT_EQ(z.at("nan"), 2);
+    EXPECT_EQ(z.at("inf"), 1);
+    EXPECT_EQ(z.at("out_of_range"), 2);
+    EXPECT_EQ(z.at("min"), -0.25);
+    EXPECT_EQ(z.at("max"), 1.5);
+    EXPECT_EQ(channel(depth_info, "layer0.A").at("out_of_range"), 8);
+    // The good depth map: 2 samples, nothing bad.
+    EXPECT_EQ(all[1].at("samples"), 2);
+    EXPECT_EQ(channel(all[1], "sample1.Z").at("out_of_range"), 0);
+    EXPECT_EQ(all[2].at("kind"), "receivers");
+    // Maps in every container: format, record and decoded quantities.
+    EXPECT_EQ(all[3].at("kind"), "moment shadow map");
+    EXPECT_EQ(all[3].at("format"), "msm64");
+    EXPECT_EQ(all[3].at("attributes").at("msmcl:format"), "msm64");
+    EXPECT_EQ(channel(all[3], "b2").at("count"), 37 * 29);
+    EXPECT_EQ(all[4].at("container"), "ktx2");
+    EXPECT_EQ(all[4].at("format"), "nlq32");
+    EXPECT_EQ(all[4].at("attributes").at("msmcl:sigma"), "1.5");
+    EXPECT_EQ(channel(all[4], "xi4").at("out_of_range"), 0);
+    EXPECT_EQ(all[5].at("container"), "dds");
+    EXPECT_EQ(all[5].at("format"), "msm64 or nlq64");
+    EXPECT_EQ(all[6].at("kind"), "summed-area table");
+    EXPECT_EQ(all[6].at("max_kernel_texels"), 100);
+    EXPECT_EQ(all[7].at("kind"), "shadow intensity");
+    EXPECT_EQ(channel(all[7], "Y").at("out_of_range"), 0);
+
+    // Text: one headline per file, a line per channel with the same counts.
+    ASSERT_EQ(cli("info " + files + " > " + q("info.txt")), 0) << err();
+    const std::string text = bytes("info.txt");
+    EXPECT_NE(text.find(path("broken.exr") + ": depth map, 4x2, exr, samples 1, layers 1"), std::string::npos) << text;
+    EXPECT_NE(text.find("  Z (float32): min -0.25, max 1.5, NaN 2, Inf 1, outside [0, 1] 2"), std::string::npos) << text;
+    EXPECT_NE(text.find(path("map.ktx2") + ": moment shadow map, 37x29, ktx2, format nlq32"), std::string::npos) << text;
+
+    // A file that cannot be parsed: exit 2, one line naming it, nothing on stdout.
+    std::system(("echo hello > " + q("text.exr")).c_str());
+    EXPECT_EQ(cli("info " + q("map.exr") + " " + q("text.exr") + " > " + q("bad.txt")), 2);
+    EXPECT_NE(err().find(path("text.exr") + ": not an OpenEXR, KTX2 or DDS file"), std::string::npos) << err();
+    EXPECT_EQ(bytes("bad.txt"), "");
 }
 
 } // namespace

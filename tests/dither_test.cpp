@@ -1,4 +1,4 @@
-// Dithered lookup (SPEC sections 7 and 8) of the shade kernel on PoCL: against a double
+// Dithered lookup (docs/math.md) of the shade kernel on PoCL: against a double
 // reference that picks the texel from the embedded blue noise on its own (floor(u - 0.5 + n)
 // with the frame's texture and shift), against the host twin, with explicit or row-major
 // screen pixels, and averaged over frames against the bilinear blend of the shaded texels.
@@ -9,7 +9,7 @@
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <gtest/gtest.h>
 
@@ -80,7 +80,7 @@ double reference_noise(std::uint32_t frame, std::uint32_t px, std::uint32_t py, 
     return (msmcl::blue_noise_textures()[texel * 2 + channel] + 0.5) / 256.0;
 }
 
-// SPEC section 8: the texel floor(c - 0.5 + n), clamped; where float32 could round the sum
+// docs/math.md, Lookups: the texel floor(c - 0.5 + n), clamped; where float32 could round the sum
 // across an integer (within 1e-5 of it), both neighbours are candidates.
 std::vector<int> reference_dither_candidates(double c, double n, int size) {
     const double s = std::clamp(c - 0.5 + n, -1.0, double(size));

@@ -133,8 +133,8 @@ TEST_F(FilterCpu, NlqCodesAgreeWithThreePass) {
     }
 }
 
-// Far from z = 0 the unshifted Algorithm 2 loses its precision to cancellation (SPEC
-// section 3); the per-tile shift keeps the CPU distribution as accurate as the paper's
+// Far from z = 0 the unshifted Algorithm 2 loses its precision to cancellation
+// (docs/math.md, the float32 guard); the per-tile shift keeps the CPU distribution as accurate as the paper's
 // kernel with its per-block shift.
 TEST_F(FilterCpu, TileShiftKeepsFlatFarRegionsAccurate) {
     DepthImage depth;

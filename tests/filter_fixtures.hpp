@@ -346,7 +346,7 @@ inline void check_nlq_against_reference(const Texture& texture, const DepthImage
         for (int x = 0; x < texture.width; ++x) {
             const ref::Moments& exact = expected[std::size_t(y) * texture.width + x];
             const ref::Moments biased = ref::bias(exact, 3e-7, 0.375);
-            // Decode the texel (SPEC section 3), rebuild its moments with Eq. 4.
+            // Decode the texel (docs/math.md), rebuild its moments with Eq. 4.
             ref::Nlq decoded;
             double dy, dv2, dxi4;
             if (is64) {

@@ -174,7 +174,7 @@ TEST_F(Filter, FusedEqualsThreePass) {
     }
 }
 
-// Far from z = 0, b2 - b1^2 cancels in float32 (SPEC section 3, Float32 guard); the
+// Far from z = 0, b2 - b1^2 cancels in float32 (docs/math.md, Float32 guard); the
 // fused kernel's per-block shift keeps Algorithm 2 accurate there.
 TEST_F(Filter, FusedShiftKeepsFlatFarRegionsAccurate) {
     DepthImage depth;

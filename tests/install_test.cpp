@@ -1,7 +1,10 @@
-// The installed package: `cmake --install` of this build tree into a temporary prefix, then
-// what an engine's build sees there: files in place, a shared library that exports the
-// public API only under its SONAME, find_package(msmcl CONFIG) from a fresh consumer
-// project (examples/, C++ and C, shared and static), and pkg-config.
+// The installed package: `cmake --install` of this build tree into a temporary, non-system
+// prefix, then what an engine's build sees there: files in place (license and docs too), a
+// shared library that exports the public API only under its SONAME, find_package(msmcl
+// CONFIG) from a fresh consumer project (examples/, C++ and C, shared and static) whose
+// variables and targets all point into the prefix and whose configure step prints no
+// warning, pkg-config without the static library's dependencies, and the installed CLI
+// finding its libraries without LD_LIBRARY_PATH.
 // Needs cmake, a C compiler, nm, readelf and pkg-config (paths from CMakeLists.txt).
 #include <gtest/gtest.h>
 
@@ -11,7 +14,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <iterator>
 #include <string>
+#include <utility>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -69,7 +74,7 @@ Outcome InstallTest::install_;
 TEST_F(InstallTest, PutsLibrariesHeadersPackageAndToolsInPlace) {
     const fs::path include = prefix_ / MSMCL_INSTALL_INCLUDEDIR / "msmcl";
     for (const char* header : {"msmcl.hpp", "msmcl.h", "version.hpp", "context.hpp", "filter.hpp", "interop.hpp",
-                               "formats.hpp", "errors.hpp", "enqueue.hpp", "shade.hpp", "shading.hpp"})
+                               "formats.hpp", "errors.hpp", "enqueue.hpp", "shade.hpp", "device_math.hpp", "types.hpp"})
         EXPECT_TRUE(fs::is_regular_file(include / header)) << header;
     const std::string so = "libmsmcl.so";
     EXPECT_TRUE(fs::is_regular_file(libdir() / (so + "." + MSMCL_VERSION)));
@@ -80,6 +85,12 @@ TEST_F(InstallTest, PutsLibrariesHeadersPackageAndToolsInPlace) {
                              "msmclStaticTargets.cmake"})
         EXPECT_TRUE(fs::is_regular_file(libdir() / "cmake" / "msmcl" / file)) << file;
     EXPECT_TRUE(fs::is_regular_file(libdir() / "pkgconfig" / "msmcl.pc"));
+    EXPECT_TRUE(fs::is_regular_file(libdir() / "pkgconfig" / "msmcl-static.pc"));
+    const fs::path doc = prefix_ / MSMCL_INSTALL_DOCDIR;
+    for (const char* file : {"README.md", "LICENSE", "docs/README.md", "docs/formats.md", "docs/math.md",
+                             "docs/kernels.md", "docs/devices.md", "docs/methods.md", "examples/engine.c",
+                             "examples/engine.cpp", "examples/CMakeLists.txt"})
+        EXPECT_TRUE(fs::is_regular_file(doc / file)) << file;
     const fs::path data = prefix_ / MSMCL_INSTALL_DATADIR / "msmcl";
     EXPECT_TRUE(fs::is_regular_file(data / "kernels" / "msm_shading.clh"));
     EXPECT_TRUE(fs::is_regular_file(data / "kernels" / "msm_portable.clh"));
@@ -129,6 +140,9 @@ TEST_F(InstallTest, ConsumerProjectFindsThePackageAndRuns) {
                                   " -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON -DCMAKE_C_COMPILER='" +
                                   MSMCL_C_COMPILER + "' -DCMAKE_CXX_COMPILER='" + MSMCL_CXX_COMPILER + "'");
     ASSERT_EQ(configure.exit_code, 0) << configure.output;
+    // Nothing to warn about: no dependency's config file speaks, no path is missing.
+    for (const char* noise : {"Warning", "WARNING", "does not exist", "Imath"})
+        EXPECT_EQ(configure.output.find(noise), std::string::npos) << noise << "\n" << configure.output;
     // It found the installed package, not this build tree.
     std::ifstream cache(build / "CMakeCache.txt");
     const std::string cache_text((std::istreambuf_iterator<char>(cache)), std::istreambuf_iterator<char>());
@@ -146,6 +160,104 @@ TEST_F(InstallTest, ConsumerProjectFindsThePackageAndRuns) {
     // The shared examples load the installed library (through the build RPATH).
     const Outcome needed = run(std::string("'") + MSMCL_READELF_COMMAND + "' -d " + quoted(build / "msmcl_example_c"));
     EXPECT_NE(needed.output.find(std::string("libmsmcl.so.") + MSMCL_SOVERSION), std::string::npos) << needed.output;
+}
+
+// Every variable and target of the package, seen from a consumer project in another prefix:
+// each path lies in the install prefix and exists, each target is defined.
+TEST_F(InstallTest, PackageVariablesAndTargetsPointIntoThePrefix) {
+    const fs::path project = root_ / "variables";
+    fs::create_directories(project);
+    std::ofstream(project / "CMakeLists.txt") << R"(cmake_minimum_required(VERSION 3.19)
+project(variables LANGUAGES C CXX)
+find_package(msmcl 0.1 CONFIG REQUIRED)
+foreach(variable msmcl_INCLUDE_DIR msmcl_KERNEL_DIR msmcl_SHADER_DIR msmcl_DOC_DIR msmcl_DIR msmcl_VERSION)
+  message(STATUS "variable ${variable}=${${variable}}")
+endforeach()
+foreach(target msmcl::msmcl msmcl::msmcl_static)
+  if(TARGET ${target})
+    message(STATUS "target ${target}")
+  endif()
+endforeach()
+)";
+    const Outcome configure = run(std::string("'") + MSMCL_CMAKE_COMMAND + "' -S " + quoted(project) + " -B " +
+                                  quoted(project / "build") + " -DCMAKE_PREFIX_PATH=" + quoted(prefix_) +
+                                  " -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON -DCMAKE_C_COMPILER='" +
+                                  MSMCL_C_COMPILER + "' -DCMAKE_CXX_COMPILER='" + MSMCL_CXX_COMPILER + "'");
+    ASSERT_EQ(configure.exit_code, 0) << configure.output;
+    for (const char* noise : {"Warning", "WARNING", "does not exist", "Imath"})
+        EXPECT_EQ(configure.output.find(noise), std::string::npos) << noise << "\n" << configure.output;
+    const auto value_of = [&](const std::string& name) {
+        const std::string key = "variable " + name + "=";
+        const std::size_t at = configure.output.find(key);
+        if (at == std::string::npos) return std::string("<missing>");
+        const std::size_t begin = at + key.size();
+        return configure.output.substr(begin, configure.output.find('\n', begin) - begin);
+    };
+    const fs::path share = prefix_ / MSMCL_INSTALL_DATADIR / "msmcl";
+    const std::pair<const char*, fs::path> expected[] = {
+        {"msmcl_INCLUDE_DIR", prefix_ / MSMCL_INSTALL_INCLUDEDIR},
+        {"msmcl_KERNEL_DIR", share / "kernels"},
+        {"msmcl_SHADER_DIR", share / "shaders"},
+        {"msmcl_DOC_DIR", prefix_ / MSMCL_INSTALL_DOCDIR},
+        {"msmcl_DIR", libdir() / "cmake" / "msmcl"},
+    };
+    for (const auto& [name, path] : expected) {
+        SCOPED_TRACE(name);
+        const std::string value = value_of(name);
+        EXPECT_EQ(fs::weakly_canonical(value), fs::weakly_canonical(path)) << value;
+        if (std::string(name) != "msmcl_SHADER_DIR" || fs::exists(fs::path(MSMCL_SOURCE_DIR) / "shaders"))
+            EXPECT_TRUE(fs::is_directory(value)) << value;
+    }
+    EXPECT_EQ(value_of("msmcl_VERSION"), MSMCL_VERSION);
+    EXPECT_NE(configure.output.find("target msmcl::msmcl\n"), std::string::npos) << configure.output;
+    EXPECT_NE(configure.output.find("target msmcl::msmcl_static\n"), std::string::npos) << configure.output;
+}
+
+// Neither .pc file requires more than OpenCL (file I/O lives in msmcl_io, which is not
+// installed): a machine without the OpenEXR and libpng development packages gets the flags of
+// both. Shown with a pkg-config search path that holds the installed .pc files and OpenCL's alone.
+TEST_F(InstallTest, PkgConfigNeedsNoFileFormatPackages) {
+    for (const char* name : {"msmcl.pc", "msmcl-static.pc"}) {
+        std::ifstream pc(libdir() / "pkgconfig" / name);
+        const std::string pc_text((std::istreambuf_iterator<char>(pc)), std::istreambuf_iterator<char>());
+        for (const char* dependency : {"OpenEXR", "libpng", "Imath"})
+            EXPECT_EQ(pc_text.find(dependency), std::string::npos) << name << ": " << dependency << "\n" << pc_text;
+        EXPECT_NE(pc_text.find("License: MIT"), std::string::npos) << pc_text;
+    }
+
+    // A search path with OpenCL.pc only, besides msmcl's own.
+    const fs::path system_pc = root_ / "opencl-only-pkgconfig";
+    fs::create_directories(system_pc);
+    const Outcome opencl_pc = run(std::string("'") + MSMCL_PKG_CONFIG_COMMAND + "' --variable=pcfiledir OpenCL");
+    ASSERT_EQ(opencl_pc.exit_code, 0) << opencl_pc.output;
+    const fs::path opencl_dir = opencl_pc.output.substr(0, opencl_pc.output.find('\n'));
+    fs::copy_file(opencl_dir / "OpenCL.pc", system_pc / "OpenCL.pc", fs::copy_options::overwrite_existing);
+    const std::string pkg_config = "PKG_CONFIG_PATH= PKG_CONFIG_LIBDIR=" + quoted(libdir() / "pkgconfig") + ":" +
+                                   quoted(system_pc) + " '" + MSMCL_PKG_CONFIG_COMMAND + "' ";
+    EXPECT_NE(run(pkg_config + "--exists OpenEXR").exit_code, 0) << "the search path still sees OpenEXR";
+    const Outcome flags = run(pkg_config + "--cflags --libs msmcl");
+    ASSERT_EQ(flags.exit_code, 0) << flags.output;
+    const fs::path program = root_ / "example_c_pkgconfig_minimal";
+    const Outcome compile = run(std::string("'") + MSMCL_C_COMPILER + "' -std=c99 '" + MSMCL_SOURCE_DIR +
+                                "/examples/engine.c' -o " + quoted(program) + " $(" + pkg_config +
+                                "--cflags --libs msmcl) -Wl,-rpath," + quoted(libdir()));
+    ASSERT_EQ(compile.exit_code, 0) << compile.output;
+    const Outcome result = run(quoted(program));
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    // The static variant resolves there too.
+    EXPECT_EQ(run(pkg_config + "--cflags --libs msmcl-static").exit_code, 0);
+}
+
+// The installed CLI finds its libraries from its own RPATH, in any prefix, with no
+// LD_LIBRARY_PATH.
+TEST_F(InstallTest, InstalledCliRunsFromItsPrefix) {
+    const fs::path cli = prefix_ / MSMCL_INSTALL_BINDIR / "msmcl";
+    if (!fs::exists(cli)) GTEST_SKIP() << "the CLI is not built (MSMCL_BUILD_TOOLS=OFF)";
+    const Outcome dynamic = run(std::string("'") + MSMCL_READELF_COMMAND + "' -d " + quoted(cli));
+    EXPECT_NE(dynamic.output.find("$ORIGIN/"), std::string::npos) << dynamic.output;
+    const Outcome version = run("env -u LD_LIBRARY_PATH " + quoted(cli) + " --version");
+    EXPECT_EQ(version.exit_code, 0) << version.output;
+    EXPECT_NE(version.output.find(std::string("msmcl ") + MSMCL_VERSION), std::string::npos) << version.output;
 }
 
 TEST_F(InstallTest, PkgConfigBuildsTheCExample) {

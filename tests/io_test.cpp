@@ -150,7 +150,7 @@ TEST_F(IoTest, EveryTextureFormatRoundTripsBitExactly) {
 }
 
 TEST_F(IoTest, TextureFilesFollowTheSpecLayout) {
-    // SPEC section 8: channel names and types, codes in channels, attributes and their types.
+    // docs/formats.md: channel names and types, codes in channels, attributes and their types.
     const Texture nlq64 = random_texture(Format::nlq64, 5, 4);
     msmcl::io::write_texture_exr(path("nlq64.exr"), nlq64, {2.4f, 4, DepthRange::zero_one});
     const ExrImage image = msmcl::io::read_exr(path("nlq64.exr"));
@@ -371,6 +371,50 @@ TEST_F(IoTest, DepthReaderNamesTheFileAndTheProblem) {
     negative.values[n - 1] = -1.5f;
     expect_input_error(read(write("neg2.exr", {negative}), DepthRange::minus_one_one), path("neg2.exr"),
                        "texel (7, 3) Z: depth -1.5 is outside the depth range [-1,1]");
+}
+
+TEST_F(IoTest, ImageSizesAreCappedAndCheckedAgainstTheFile) {
+    // A real 4x3 file whose header is patched to claim a larger data window (the offset
+    // table and data stay those of 4x3): refused from the header alone, before anything
+    // of the claimed size is allocated.
+    msmcl::io::write_depth_exr(path("small.exr"), random_depth(4, 3, 1, DepthRange::zero_one));
+    const std::string small = bytes_of(path("small.exr"));
+    const std::string key("dataWindow\0box2i\0", 17);
+    const std::size_t box_at = small.find(key) + key.size() + 4; // after the size field
+    ASSERT_LT(box_at, small.size());
+    auto patch_window = [&](const std::string& name, std::int32_t max_x, std::int32_t max_y) {
+        std::string patched = small;
+        std::memcpy(&patched[box_at + 8], &max_x, 4);
+        std::memcpy(&patched[box_at + 12], &max_y, 4);
+        std::ofstream(path(name), std::ios::binary) << patched;
+        return path(name);
+    };
+    const auto depth_of = [](const std::string& file) {
+        return [file] { msmcl::io::read_depth_exr(file, DepthRange::zero_one); };
+    };
+    // 60000^2 texels: over the texel limit (2^28).
+    expect_input_error(depth_of(patch_window("huge.exr", 59999, 59999)), path("huge.exr"),
+                       "60000 x 60000 texels exceed the limit of 268435456 (MSMCL_MAX_TEXELS)");
+    // 16000^2 FLOAT texels fit the limits (1.02e9 bytes), but not the few hundred bytes of
+    // the file even at zlib's largest expansion.
+    const std::string claims = patch_window("claims.exr", 15999, 15999);
+    expect_input_error(depth_of(claims), claims, "the header claims 16000 x 16000 texels (1024000000 bytes of data)");
+    expect_input_error([&] { msmcl::io::read_exr(claims); }, claims, "more than the");
+    // The limits are the environment's when set.
+    msmcl::io::write_depth_exr(path("four.exr"), random_depth(16, 16, 4, DepthRange::zero_one));
+    ASSERT_EQ(::setenv("MSMCL_MAX_TEXELS", "255", 1), 0);
+    expect_input_error(depth_of(path("four.exr")), path("four.exr"), "16 x 16 texels exceed the limit of 255");
+    ASSERT_EQ(::setenv("MSMCL_MAX_TEXELS", "256", 1), 0);
+    EXPECT_NO_THROW(msmcl::io::read_depth_exr(path("four.exr"), DepthRange::zero_one));
+    ASSERT_EQ(::setenv("MSMCL_MAX_BYTES", "4095", 1), 0); // 16 bytes per texel (4 FLOAT samples)
+    expect_input_error(depth_of(path("four.exr")), path("four.exr"), "exceed the limit of 4095 bytes (MSMCL_MAX_BYTES)");
+    ASSERT_EQ(::setenv("MSMCL_MAX_BYTES", "100", 1), 0); // smaller than the file itself
+    expect_input_error(depth_of(path("four.exr")), path("four.exr"), "bytes exceed the limit of 100 bytes");
+    ASSERT_EQ(::setenv("MSMCL_MAX_BYTES", "lots", 1), 0);
+    EXPECT_THROW(msmcl::io::read_depth_exr(path("four.exr"), DepthRange::zero_one), msmcl::input_error);
+    ::unsetenv("MSMCL_MAX_TEXELS");
+    ::unsetenv("MSMCL_MAX_BYTES");
+    EXPECT_NO_THROW(msmcl::io::read_depth_exr(path("four.exr"), DepthRange::zero_one));
 }
 
 // ---- Receivers, intensity, PNG ---------------------------------------------------------

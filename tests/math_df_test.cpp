@@ -1,7 +1,7 @@
 // Float-float toolkit (kernels/msm_df.clh) against long double, and the accurate shading of
 // the linear formats (kernels/msm_shading.clh: moments about their mean in float-float)
 // against the independent double reconstruction of host/reference. u = 2^-24 below.
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"
 #include "reference/moment_math.hpp"
@@ -260,7 +260,7 @@ TEST_F(MathDf, MomentsAboutTheMeanMatchReference) {
     EXPECT_LE(worst, 1e-13);
 }
 
-// The bias applied about c equals the SPEC bias applied first (double) and then shifted. The
+// The bias applied about c equals the bias of docs/math.md applied first (double) and then shifted. The
 // correction alpha (t - m) is float32: t up to 5.4 (c = +-1) carries ~2 ulps (1e-6), times
 // alpha: 3e-13 for moments128, 6e-11 for msm64; against biased central moments >= ~alpha/10.
 TEST_F(MathDf, BiasAboutTheMeanMatchesReference) {

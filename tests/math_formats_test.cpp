@@ -1,6 +1,6 @@
-// Texel formats of SPEC section 3 (kernels/msm_formats.clh, float32) against hand-computed
+// Texel formats of docs/formats.md (kernels/msm_formats.clh, float32) against hand-computed
 // words and the independent double-precision encoders of host/reference/moment_math.*.
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_formats.clh"
 #include "reference/moment_math.hpp"
@@ -142,7 +142,7 @@ TEST_F(MathFormats, Nlq32FoldBoundaryAndClamps) {
     EXPECT_EQ(fields_of(msm_encode_nlq32(texel(0.0f, 0.0f, -0.5f, 0.0f))).sqrt_v2, 0u);
 }
 
-// Both branches round trip: for every pair yt1 <= yt2 the fields are the fold of SPEC and
+// Both branches round trip: for every pair yt1 <= yt2 the fields are the fold of docs/formats.md and
 // the decoded depths are the centres of yt1, yt2 again.
 TEST_F(MathFormats, Nlq32FoldIsABijectionOnTheTriangle) {
     for (unsigned yt1 = 0; yt1 <= 1022; ++yt1) {
@@ -170,7 +170,7 @@ TEST_F(MathFormats, Nlq64WordExample) {
     std::array<std::uint32_t, 2> words = ref::pack_codes16(ref::encode_nlq64(ref::Nlq{-1, 1, 0.5, 0.25}));
     EXPECT_EQ(w.w0, words[0]);
     EXPECT_EQ(w.w1, words[1]);
-    // shading.hpp decodes the same words.
+    // device_math.hpp decodes the same words.
     msmcl::NlqTexel t = msmcl::decode_nlq64(words.data());
     EXPECT_EQ(t.y1, -1.0f);
     EXPECT_EQ(t.y2, 1.0f);
@@ -189,7 +189,7 @@ TEST_F(MathFormats, Msm64WordExamples) {
     EXPECT_EQ(codes_of(one), ref::encode_msm64(ref::moments_of(1.0)));
 }
 
-// ---- The affine pair of SPEC section 3.
+// ---- The affine pair of docs/math.md.
 
 // In double the two maps are exact inverses: the linear parts multiply to the identity.
 TEST_F(MathFormats, Msm64AffinePairInvertsExactly) {
@@ -268,7 +268,7 @@ TEST_F(MathFormats, Msm64FloatMatchesReferenceAndRoundTrips) {
         ASSERT_NEAR(d.b2, reference.b2, 1e-6);
         ASSERT_NEAR(d.b3, reference.b3, 1e-6);
         ASSERT_NEAR(d.b4, reference.b4, 1e-6);
-        // shading.hpp reads the same two words.
+        // device_math.hpp reads the same two words.
         const std::uint32_t words[2] = {w.w0, w.w1};
         msmcl::Moments4 via_api = msmcl::decode_msm64(words);
         ASSERT_EQ(via_api.b1, d.b1);

@@ -1,7 +1,7 @@
-// Hamburger 4MSM (kernels/msm_shading.clh, float32: the GDC HLSL with SPEC's fixes) against
-// the independent double generic 4MSM (Algorithm 1 of seed 003) of host/reference, and
+// Hamburger 4MSM (kernels/msm_shading.clh, float32: the GDC HLSL with the fixes of docs/math.md) against
+// the independent double generic 4MSM (Algorithm 1 of Peters, HPG 2017) of host/reference, and
 // checks of that reference itself against exact shares of discrete distributions.
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"
 #include "reference/moment_math.hpp"

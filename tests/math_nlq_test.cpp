@@ -1,7 +1,7 @@
 // Algorithm 2 + Algorithm 3 (kernels/msm_moments.clh, msm_shading.clh through
-// msmcl/shading.hpp, float32) against the independent double-precision generic 4MSM of
+// msmcl/device_math.hpp, float32) against the independent double-precision generic 4MSM of
 // host/reference/moment_math.*, plus the shifted-frame variant of Algorithm 2.
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"
 #include "reference/moment_math.hpp"
@@ -402,7 +402,7 @@ TEST_F(MathNlq, ShiftedMomentsMatchReferenceOnOrdinaryDistributions) {
 }
 
 // Flat regions: all depths within 1e-5..1e-4 of a centre c with 0.5 <= |c| <= 0.95 (a
-// plane seen by the light, where SPEC section 3 saw float32 NaNs). Unshifted float32 moments
+// plane seen by the light, where docs/math.md saw float32 NaNs). Unshifted float32 moments
 // cancel sigma2 (~1e-7, mostly the bias's) against b1^2 ~ 0.5; the shifted path does not.
 // Two measures against the double reference of the exact biased moments:
 //  - xi4, relative (independent of how well float32 v2 ~ 1 - 1e-6 holds v1);

@@ -1,7 +1,7 @@
-// msmcl::shade_texel / shade_receiver (host/shading/shading.cpp): the lookup of SPEC
-// section 8 (nearest, bilinear, clamp to the edge, depth convention and bias) on small
+// msmcl::shade_texel / shade_receiver (host/shading/shading.cpp): the lookup of
+// docs/math.md (nearest, bilinear, clamp to the edge, depth convention and bias) on small
 // hand-built textures, and per-texel shading against the double reference.
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"
 #include "reference/moment_math.hpp"

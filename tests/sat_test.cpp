@@ -102,7 +102,7 @@ TEST(SatMath, ScaleIsFloorOfMaxOverN) {
         EXPECT_LE(static_cast<std::uint64_t>(n) * msmcl::sat_scale(n), 0xffffffffull);
         EXPECT_GT(static_cast<std::uint64_t>(n) * (msmcl::sat_scale(n) + 1ull), 0xffffffffull);
     }
-    // 27^2 keeps log2(scale) = 22.5 bits (SPEC section 5).
+    // 27^2 keeps log2(scale) = 22.5 bits (docs/math.md).
     EXPECT_NEAR(std::log2(double(msmcl::sat_scale(729))), 22.49, 0.01);
 }
 

@@ -4,6 +4,7 @@
 #include "data/scatter/scatter_geometry.hpp"
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -214,6 +215,40 @@ TEST_F(ScatterCli, MalformedJsonAndZeroExtinction) {
     write_scene("no_near.json", document.dump());
     expect_bad_input({in("no_near.json"), in("shadow.exr"), in("camera.exr"), out("r.exr")}, in("no_near.json"),
                      "camera: missing key \"near\"");
+}
+
+TEST_F(ScatterCli, HostileJsonIsBadInputNamingTheFile) {
+    const std::vector<std::string> rest{in("shadow.exr"), in("camera.exr"), out("r.exr")};
+    const auto arguments = [&](const std::string& scene) {
+        std::vector<std::string> a{in(scene)};
+        a.insert(a.end(), rest.begin(), rest.end());
+        return a;
+    };
+    // 100000 nested arrays in a key's value: refused at the depth limit, no stack overflow
+    // (neither while parsing nor while describing the value in a message).
+    const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+    write_scene("deep.json", "{\"medium\": " + deep + "}");
+    expect_bad_input(arguments("deep.json"), in("deep.json"), "nested deeper than 64 levels");
+    // Just under the limit: parsed, then refused for its type with a short message.
+    nlohmann::json document = nlohmann::json::parse(text_);
+    document["medium"] = nlohmann::json::parse(std::string(60, '[') + std::string(60, ']'));
+    write_scene("nested.json", document.dump());
+    expect_bad_input(arguments("nested.json"), in("nested.json"), "medium: expected an object, got an array of 1");
+    // A number beyond double's range is a parse error of the file, not a runtime failure.
+    document = nlohmann::json::parse(text_);
+    std::string text = document.dump();
+    const std::string extinction = "\"extinction\":";
+    text.insert(text.find(extinction) + extinction.size(), "1e400");
+    text.erase(text.find(extinction) + extinction.size() + 5, text.find_first_of(",}", text.find(extinction)) -
+                                                                  (text.find(extinction) + extinction.size() + 5));
+    write_scene("overflow.json", text);
+    expect_bad_input(arguments("overflow.json"), in("overflow.json"), "number overflow");
+    // Wrong types deep inside an object (a string where an integer goes; an out-of-range
+    // integer) keep the file name and exit 2.
+    document = nlohmann::json::parse(text_);
+    document["rectified"]["width"] = 18446744073709551615ull;
+    write_scene("huge.json", document.dump());
+    expect_bad_input(arguments("huge.json"), in("huge.json"), "rectified.width");
 }
 
 TEST_F(ScatterCli, CameraInsideGeometry) {

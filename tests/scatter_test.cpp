@@ -1,9 +1,10 @@
-// Prefiltered single scattering (SPEC section 6): scene files, rectification bounds and
-// coordinates, Algorithm 1 of seed 001, the six-moment transform and bounds (host build of
+// Prefiltered single scattering (docs/math.md): scene files, rectification bounds and
+// coordinates, Algorithm 1 of Peters et al., i3D 2016, the six-moment transform and bounds (host build of
 // kernels/msm_scatter.clh against the double reference in host/reference/scatter_reference),
 // and the kernels on PoCL against that reference: resampling, prefix sums, quantized maps,
 // evaluation, ray marching, and the result against ray marching on the sample scenes.
 #include "data/scatter/scatter_geometry.hpp"
+#include "io/scene_json.hpp"
 #include "ops/scatter_params.hpp"
 #include "reference/filter_reference.hpp"
 #include "reference/scatter_reference.hpp"
@@ -474,7 +475,7 @@ TEST(ScatterMath, SixMomentTransformRoundTrip) {
     for (int trial = 0; trial < 2000; ++trial) {
         const ref::Moments6 m = moments6_of(random_distribution(rng, 1 + trial % 4));
         const std::array<double, 6> channels = ref::six_moment_channels(m);
-        // In [0, 1] up to the rounding of SPEC's 8-digit constants (B1 reaches 1 + 6e-9).
+        // In [0, 1] up to the rounding of the 8-digit constants of docs/math.md (B1 reaches 1 + 6e-9).
         for (double c : channels) {
             EXPECT_GE(c, -1e-8);
             EXPECT_LE(c, 1 + 1e-8);
@@ -511,7 +512,7 @@ TEST(ScatterMath, SixMomentBoundsExactForThreePoints) {
         const ref::Bounds r = ref::hamburger6(biased6(m, 1e-14), zf);
         EXPECT_NEAR(r.lower, exact, 1e-5);
         EXPECT_NEAR(r.upper, exact, 1e-5);
-        // Header, float32 (what the kernels run, with the SPEC bias 4e-3): it follows the
+        // Header, float32 (what the kernels run, with the bias 4e-3 of docs/math.md): it follows the
         // reference at that bias, which tends to the exact share as the bias vanishes.
         const ref::Bounds r3 = unbiased_bounds(ref::hamburger6(biased6(m, 4e-3), zf), zf);
         const float lower = msm_scatter_shadow6(to_clh(m), static_cast<float>(zf), 0.0f);
@@ -543,7 +544,7 @@ TEST(ScatterMath, SixMomentBoundsBracketOtherDistributions) {
         const ref::Bounds r = ref::hamburger6(biased6(m, 1e-9), zf);
         EXPECT_LE(r.lower, exact + 1e-6);
         EXPECT_GE(r.upper, exact - 1e-6);
-        // With the SPEC bias the moments are those of (1 - alpha) d + alpha a (a arcsine): the
+        // With the bias of docs/math.md the moments are those of (1 - alpha) d + alpha a (a arcsine): the
         // bounds bracket the mixture's share, and less a's known share they bracket d's.
         // Header (float32, what the kernels run): within a further 1e-4 (it follows the
         // reference to ~1e-6, below).
@@ -804,7 +805,7 @@ TEST_F(ScatterDevice, ScatteringAgainstRayMarchingOnTheSampleScenes) {
     //   pergola: 6 moments mean 0.0547, p99 0.278;  4 moments mean 0.0706, p99 0.381
     // Bounds: 1.5x those, so that a regression in resampling, weights or reconstruction
     // fails while float differences between devices pass. 128-sample ray marching is the
-    // reference of the issue; its mean difference to 1024-sample ray marching is 0.05% (hall)
+    // accuracy reference (docs/methods.md); its mean difference to 1024-sample ray marching is 0.05% (hall)
     // and 0.4% (pergola) of the unshadowed radiance.
     struct Case {
         const char* scene;

@@ -8,7 +8,7 @@
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ class ShadeTest : public msmcl::testing::DeviceSuite<ShadeTest, 20171122u> {};
 
 // A texel's depth distribution: what a filtered shadow map holds near silhouettes (two
 
-// Algorithm 3 exactly as SPEC section 3 writes it (clamps 1e-6), in long double.
+// Algorithm 3 exactly as docs/math.md writes it (clamps 1e-6), in long double.
 double reference_algorithm3(const ref::Nlq& t, double zf_in) {
     using real = long double;
     const real zf = zf_in, y1 = t.y1, y2 = t.y2;
@@ -81,7 +81,7 @@ ref::Moments reference_linear_moments(const msmcl::Texture& t, int x, int y) {
     return ref::decode_msm64(ref::unpack_codes16({w[0], w[1]}));
 }
 
-// SPEC section 8 lookup, in double, written out independently of msm_shading.clh.
+// The lookup of docs/math.md (Lookups), in double, written out independently of msm_shading.clh.
 double reference_shade(const msmcl::Texture& t, double u, double v, double z, const msmcl::ShadeOptions& o) {
     const double zf = ref::internal_depth(z, o.depth_range == msmcl::DepthRange::zero_one) - o.depth_bias;
     auto clamp_index = [](double c, int size) {
@@ -180,7 +180,7 @@ TEST_P(ShadeAgainstReference, MatchesDoubleReconstructionAndHostMath) {
     std::printf("%s/%s: vs double reference max %.3g, share > 1e-4 %.4f%%; vs host float max %.3g\n",
                 msmcl::format_name(c.format), msmcl::lookup_name(c.lookup), vs_reference.max,
                 100 * vs_reference.share_above_1e4(), vs_host.max);
-    // Acceptance of the core issue: within 1e-4 for 99.9% of receivers, 1e-2 for all. The
+    // Acceptance bound of the shade kernel: within 1e-4 for 99.9% of receivers, 1e-2 for all. The
     // float32 Cholesky of nearly singular (two-point) moments is where the rest comes from.
     EXPECT_LE(vs_reference.share_above_1e4(), 0.001);
     EXPECT_LE(vs_reference.max, 1e-2);
@@ -229,7 +229,7 @@ TEST_P(ShadeSampleScene, EveryFormatAndLookupMatchesTheDoubleReconstruction) {
             std::printf("%s %s/%s: %zu receivers, max error %.3g, share > 1e-4 %.4f%%\n", scene.c_str(),
                         msmcl::format_name(format), msmcl::lookup_name(lookup), stats.count, stats.max,
                         100 * stats.share_above_1e4());
-            // Acceptance of the core issue (see the random-texel test above).
+            // Acceptance bound of the shade kernel (see the random-texel test above).
             EXPECT_LE(stats.share_above_1e4(), 0.001) << msmcl::format_name(format) << "/" << msmcl::lookup_name(lookup);
             EXPECT_LE(stats.max, 1e-2) << msmcl::format_name(format) << "/" << msmcl::lookup_name(lookup);
         }

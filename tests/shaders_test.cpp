@@ -16,6 +16,7 @@
 #include "runtime/opencl.hpp"
 
 #include <msmcl/context.hpp>
+#include <msmcl/device_math.hpp>
 #include <msmcl/shade.hpp>
 
 #include <gtest/gtest.h>
@@ -35,6 +36,8 @@
 #include <vector>
 
 // ---- The GLSL file as C++: GLSL's types, intrinsics and texelFetch on host arrays.
+// `precise` (no contraction or re-association) is what C++ does anyway without -ffast-math.
+#define precise
 namespace glsl_shader {
 using std::acos;
 using std::asin;
@@ -402,7 +405,7 @@ TYPED_TEST(ShaderLanguage, DecodersAndTexelShadingMatchTheDeviceFunctions) {
 
 // The whole lookups on random textures: nearest and bilinear against the composition of
 // the device functions that kernels/shade.cl makes (with the fast 4MSM for the linear
-// formats), dithered against SPEC section 8 directly.
+// formats), dithered against docs/math.md directly.
 TYPED_TEST(ShaderLanguage, LookupsMatchTheShadeKernelsComposition) {
     std::mt19937 random(test_seed() + 2);
     const int width = 13, height = 9;
@@ -465,7 +468,7 @@ TYPED_TEST(ShaderLanguage, LookupsMatchTheShadeKernelsComposition) {
         ASSERT_TRUE(same_bits(TypeParam::lookup_nlq32(nlq32.data(), width, height, u, v, zf, 1, 0, 0),
                               msm_bilinear(nlq32_shadow(t00), nlq32_shadow(t10), nlq32_shadow(t01), nlq32_shadow(t11),
                                            k.tx, k.ty)));
-        // dithered: texel floor(u - 0.5 + n), clamped to the edge (SPEC section 8)
+        // dithered: texel floor(u - 0.5 + n), clamped to the edge (docs/math.md, Lookups)
         const float nx = unit(random), ny = unit(random);
         const int dx = std::clamp(static_cast<int>(std::floor(u - 0.5f + nx)), 0, width - 1);
         const int dy = std::clamp(static_cast<int>(std::floor(v - 0.5f + ny)), 0, height - 1);
@@ -583,6 +586,49 @@ TYPED_TEST(ShaderLanguage, SingleScatteringMatchesTheDeviceFunctions) {
 }
 
 // ---- msm.hlsl is generated from msm.glsl.
+// The accurate moments128 path of the shaders (float-float with Dekker's TwoProd, no fma)
+// against msm_shading.clh's (TwoProd by fma): the product pairs are the same exact pairs;
+// only the low parts of DWTimesFP/DWTimesDW round differently (a * b + c against fma), an
+// error of ~u^2 relative. On moments of contact shadows, where the fast float32 path is off
+// by up to ~0.5, both agree to within 1e-5.
+TEST(ShaderFunctions, AccurateMoments128MatchesTheDeviceFunctions) {
+    std::mt19937 random(test_seed());
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    double largest = 0, largest_fast = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        // Moments of two or three depths, often nearly equal (contact shadows, flat regions).
+        msm_moments texel[4];
+        for (msm_moments& m : texel) {
+            const float base = unit(random) * 2.0f - 1.0f;
+            const float spread = trial % 2 ? 1e-3f * unit(random) : unit(random);
+            double b[4] = {0, 0, 0, 0};
+            const int depths = 2 + trial % 2;
+            for (int k = 0; k < depths; ++k) {
+                const double z = std::clamp(base + spread * (unit(random) - 0.5f), -1.0f, 1.0f);
+                for (int p = 0; p < 4; ++p) b[p] += std::pow(z, p + 1) / depths;
+            }
+            m = msm_moments{float(b[0]), float(b[1]), float(b[2]), float(b[3])};
+        }
+        const float zf = texel[0].b1 + (unit(random) - 0.5f) * (trial % 3 ? 2e-3f : 0.5f);
+        const float tx = unit(random), ty = unit(random);
+        const auto as_glsl = [](const msm_moments& m) { return glsl_shader::msm_moments{m.b1, m.b2, m.b3, m.b4}; };
+        const auto as_hlsl = [](const msm_moments& m) { return hlsl_shader::msm_moments{m.b1, m.b2, m.b3, m.b4}; };
+        const float device = msm_shadow_moments128(texel[0], zf);
+        const float device_bilinear = msm_shadow_moments128_bilinear(texel[0], texel[1], texel[2], texel[3], tx, ty, zf);
+        const float glsl = glsl_shader::msm_shadow_moments128(as_glsl(texel[0]), zf);
+        const float hlsl = hlsl_shader::msm_shadow_moments128(as_hlsl(texel[0]), zf);
+        const float glsl_bilinear = glsl_shader::msm_shadow_moments128_df(
+            glsl_shader::msm_moments_df_bilinear_f(as_glsl(texel[0]), as_glsl(texel[1]), as_glsl(texel[2]),
+                                                   as_glsl(texel[3]), tx, ty),
+            zf);
+        ASSERT_TRUE(same_bits(glsl, hlsl)) << "trial " << trial;
+        largest = std::max({largest, std::fabs(double(glsl) - device), std::fabs(double(glsl_bilinear) - device_bilinear)});
+        largest_fast = std::max(largest_fast, std::fabs(double(msm_shadow_moments128_fast(texel[0], zf)) - device));
+    }
+    std::printf("accurate moments128: shaders vs msm_shading.clh max %.3g (fast path: %.3g)\n", largest, largest_fast);
+    EXPECT_LE(largest, 1e-5);
+}
+
 TEST(ShaderFiles, HlslIsGeneratedFromGlsl) {
     const fs::path source = MSMCL_SOURCE_DIR;
     const fs::path generated = fs::temp_directory_path() / ("msmcl-msm-" + std::to_string(::getpid()) + ".hlsl");
@@ -634,6 +680,7 @@ void main() {
     msm_moments6 six = msm_decode_moments6(texture(moments6_odd, uv), texture(moments6_even, uv));
     results[13] = msm_scatter_shadow6(six, zf, 0.5f);
     results[14] = msm_scatter_shadow4(msm_decode_msm64(texture(msm64_map, uv)), zf, 0.5f);
+    results[15] = msm_lookup_moments128_accurate(moments128_map, 16, 16, 3.2f, 4.7f, zf, 1, noise);
 }
 )";
 
@@ -671,6 +718,7 @@ void main(uint3 id : SV_DispatchThreadID) {
     msm_moments6 six = msm_decode_moments6(moments6_odd.SampleLevel(bilinear, uv, 0), moments6_even.SampleLevel(bilinear, uv, 0));
     results[13] = msm_scatter_shadow6(six, zf, 0.5f);
     results[14] = msm_scatter_shadow4(msm_decode_msm64(msm64_map.SampleLevel(bilinear, uv, 0)), zf, 0.5f);
+    results[15] = msm_lookup_moments128_accurate(moments128_map, 16, 16, 3.2f, 4.7f, zf, 1, noise);
 }
 )";
 

@@ -1,4 +1,4 @@
-// Moment soft shadow mapping (seed 001 section 3) on the OpenCL device (PoCL in CI):
+// Moment soft shadow mapping (Peters et al., i3D 2016, section 3) on the OpenCL device (PoCL in CI):
 // against the same method evaluated by direct sums in long double, against brute-force
 // percentage-closer soft shadows (PCSS) on the sample scenes (error statistics printed,
 // bounds asserted), contact hardening, umbra and lit limits, the host build of the same
@@ -188,7 +188,7 @@ void compare_with_references(msmcl::Context& context, const std::string& name, d
 // ~1e-3 on average, a few receivers on a decision edge (umbra threshold, blocker
 // classification) by more. Against PCSS, the method's own error: four moments of a 27 x 27
 // region hold more than two surfaces near contact points, the blocker search's lower bound
-// then finds too little blocker mass and the filter leaks light (seed 001, Fig. 12); 1% of
+// then finds too little blocker mass and the filter leaks light (Peters et al., i3D 2016, Fig. 12); 1% of
 // the receivers differ by up to ~0.45.
 TEST_F(SoftTest, RailingSceneAgreesWithReferences) {
     compare_with_references(context(), "railing", 0.005, 0.05, 0.06, 0.6);

@@ -1,4 +1,4 @@
-// Translucent occluders (SPEC section 7, seed 001 section 4) on PoCL: every filter kernel and
+// Translucent occluders (docs/math.md, Peters et al., i3D 2016, section 4) on PoCL: every filter kernel and
 // the SAT build with translucent layers against the double-precision reference
 // (host/reference/translucent_reference: sort, alpha blending front to back), bit-identity
 // with the opaque path for no layers and for layers of opacity 0, opacity 1 acting as an
@@ -199,7 +199,7 @@ TEST_F(Translucent, PartialShadowIsPlausible) {
     // transmittance 1 - prod (1 - a) of the layers in front (reference composite, double).
     // One layer: Z has two points (layer, opaque surface), which four moments pin down, so
     // the 4MSM is exact up to the bias (moments128: alpha = 3e-7; nlq64: its quantization).
-    // More layers: the 4MSM is a lower bound (seed 003, section 3): never more shadow than
+    // More layers: the 4MSM is a lower bound (Peters, HPG 2017, section 3): never more shadow than
     // exact beyond that tolerance; the error is reported.
     const int width = 48, height = 40;
     std::mt19937 random(seed() + 20);

@@ -10,6 +10,7 @@
 #include "scatter_geometry.hpp"
 
 #include "io/exr_io.hpp"
+#include "io/scene_json.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -106,7 +107,7 @@ nlohmann::json run_figures(const Options& options, const ScatterScene& scene, co
     std::fill(empty.depth.begin(), empty.depth.end(), 1.0f);
 
     // Frames: the camera turned by k * yaw_step degrees. References: ray marching with
-    // ray_steps samples (the issue's) and with 8x as many (to tell its own flicker).
+    // ray_steps samples (the accuracy target) and with 8x as many (to tell its own flicker).
     const int fine_steps = 8 * options.ray_steps;
     std::vector<std::vector<float>> reference(options.frames), fine(options.frames);
     std::vector<std::vector<std::vector<float>>> estimates(std::size(variants),

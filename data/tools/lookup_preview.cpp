@@ -1,4 +1,4 @@
-// msmcl-lookup-preview: one PNG that compares the lookups of a filtered map (SPEC section 8)
+// msmcl-lookup-preview: one PNG that compares the lookups of a filtered map (docs/math.md, Lookups)
 // side by side on a view's receivers: nearest, bilinear, dither (one frame) and the mean of
 // dither over N frames, each lit by the view's lighting (ambient + direct * (1 - Y)) where
 // given, else the shadow intensity (white lit, black shadowed). A crop and an integer zoom

@@ -1,10 +1,10 @@
-// msmcl-scene: a procedural test scene in the spirit of seed 003, Figure 1: a slim
+// msmcl-scene: a procedural test scene in the spirit of Peters, HPG 2017, Figure 1: a slim
 // railing casts a short-range shadow onto a banner hanging just behind it, and the banner
 // casts onto the ground. Depth is exact (ray-box and ray-plane intersections in double)
 // at every standard D3D MSAA sample position of an orthographic directional light.
 // Also writes the receivers of a perspective view (each pixel's visible surface point in
 // light space), the view's lighting terms and previews. With --smoke N, a plume of smoke in
-// front of the banner as N translucent planes facing the light (seed 001 section 4): per sample
+// front of the banner as N translucent planes facing the light (Peters et al., i3D 2016, section 4): per sample
 // and plane a depth and an opacity, channels layer<k>.Z, layer<k>.A (one sample) or
 // layer<k>.sample<s>.Z, layer<k>.sample<s>.A, beside the unchanged opaque depth.
 // With --materials, the material index of each view pixel (channel M: 0 sky, 1 ground,

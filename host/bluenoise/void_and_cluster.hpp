@@ -1,5 +1,5 @@
 // Blue noise by the void-and-cluster method (Ulichney 1993, "Void-and-cluster method for
-// dither array generation"), as seed 003 section 4.2 uses it: Gaussian energy filter with
+// dither array generation"), as Peters, HPG 2017, section 4.2 uses it: Gaussian energy filter with
 // sigma 1.9 on a torus (so every texture tiles), 64 textures of 64x64 texels, 2 channels,
 // 8 bits per channel, every channel a permutation of the 256 equally spaced levels.
 //

@@ -15,6 +15,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 struct msmcl_context {
@@ -73,22 +74,35 @@ void require(const T* pointer, const char* call, const char* name) {
     if (!pointer) throw invalid_argument{std::string(call) + ": " + name + " is NULL"};
 }
 
-msmcl::Format to_format(msmcl_format format, const char* call) {
-    switch (format) {
+/// The value a caller stored in a C enum, read as an integer: a value outside the
+/// enumerators (any int can arrive from C) must not be loaded as the enum type, which is
+/// undefined behaviour in C++.
+template <class Enum>
+long long enum_value(const Enum& value) {
+    static_assert(std::is_enum_v<Enum>);
+    // Signed, as C callers see their enums (int).
+    std::make_signed_t<std::underlying_type_t<Enum>> raw;
+    static_assert(sizeof raw == sizeof value);
+    std::memcpy(&raw, &value, sizeof raw);
+    return static_cast<long long>(raw);
+}
+
+msmcl::Format to_format(const msmcl_format& format, const char* call) {
+    switch (enum_value(format)) {
     case MSMCL_FORMAT_MOMENTS128: return msmcl::Format::moments128;
     case MSMCL_FORMAT_MSM64: return msmcl::Format::msm64;
     case MSMCL_FORMAT_NLQ64: return msmcl::Format::nlq64;
     case MSMCL_FORMAT_NLQ32: return msmcl::Format::nlq32;
     }
-    throw invalid_argument{std::string(call) + ": unknown format " + std::to_string(static_cast<int>(format))};
+    throw invalid_argument{std::string(call) + ": unknown format " + std::to_string(enum_value(format))};
 }
 
-msmcl::DepthRange to_depth_range(msmcl_depth_range range, const char* call) {
-    switch (range) {
+msmcl::DepthRange to_depth_range(const msmcl_depth_range& range, const char* call) {
+    switch (enum_value(range)) {
     case MSMCL_DEPTH_RANGE_ZERO_ONE: return msmcl::DepthRange::zero_one;
     case MSMCL_DEPTH_RANGE_MINUS_ONE_ONE: return msmcl::DepthRange::minus_one_one;
     }
-    throw invalid_argument{std::string(call) + ": unknown depth range " + std::to_string(static_cast<int>(range))};
+    throw invalid_argument{std::string(call) + ": unknown depth range " + std::to_string(enum_value(range))};
 }
 
 msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, const char* call) {
@@ -99,13 +113,13 @@ msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, cons
     result.format = to_format(c.format, call);
     result.sigma = c.sigma;
     result.depth_range = to_depth_range(c.depth_range, call);
-    switch (c.kernel) {
+    switch (enum_value(c.kernel)) {
     case MSMCL_FILTER_KERNEL_AUTOMATIC: result.kernel = msmcl::FilterKernel::automatic; break;
     case MSMCL_FILTER_KERNEL_FUSED_PAPER: result.kernel = msmcl::FilterKernel::fused_paper; break;
     case MSMCL_FILTER_KERNEL_THREE_PASS: result.kernel = msmcl::FilterKernel::three_pass; break;
     case MSMCL_FILTER_KERNEL_FUSED_CPU: result.kernel = msmcl::FilterKernel::fused_cpu; break;
     default:
-        throw invalid_argument{std::string(call) + ": unknown filter kernel " + std::to_string(static_cast<int>(c.kernel))};
+        throw invalid_argument{std::string(call) + ": unknown filter kernel " + std::to_string(enum_value(c.kernel))};
     }
     return result;
 }
@@ -115,11 +129,11 @@ msmcl::ShadeOptions to_shade_options(const msmcl_shade_options* options, const c
     msmcl_shade_options_init(&c);
     if (options) c = *options;
     msmcl::ShadeOptions result;
-    switch (c.lookup) {
+    switch (enum_value(c.lookup)) {
     case MSMCL_LOOKUP_NEAREST: result.lookup = msmcl::Lookup::nearest; break;
     case MSMCL_LOOKUP_BILINEAR: result.lookup = msmcl::Lookup::bilinear; break;
     case MSMCL_LOOKUP_DITHER: result.lookup = msmcl::Lookup::dither; break;
-    default: throw invalid_argument{std::string(call) + ": unknown lookup " + std::to_string(static_cast<int>(c.lookup))};
+    default: throw invalid_argument{std::string(call) + ": unknown lookup " + std::to_string(enum_value(c.lookup))};
     }
     result.depth_bias = c.depth_bias;
     result.depth_range = to_depth_range(c.depth_range, call);
@@ -135,13 +149,13 @@ msmcl::SatOptions to_sat_options(const msmcl_sat_options* options, const char* c
     msmcl::SatOptions result;
     result.max_kernel_texels = c.max_kernel_texels;
     result.depth_range = to_depth_range(c.depth_range, call);
-    switch (c.kernel) {
+    switch (enum_value(c.kernel)) {
     case MSMCL_SAT_KERNEL_AUTOMATIC: result.kernel = msmcl::SatKernel::automatic; break;
     case MSMCL_SAT_KERNEL_TILED_GPU: result.kernel = msmcl::SatKernel::tiled_gpu; break;
     case MSMCL_SAT_KERNEL_TILED_CPU: result.kernel = msmcl::SatKernel::tiled_cpu; break;
     case MSMCL_SAT_KERNEL_ROW_PER_THREAD: result.kernel = msmcl::SatKernel::row_per_thread; break;
     default:
-        throw invalid_argument{std::string(call) + ": unknown SAT kernel " + std::to_string(static_cast<int>(c.kernel))};
+        throw invalid_argument{std::string(call) + ": unknown SAT kernel " + std::to_string(enum_value(c.kernel))};
     }
     return result;
 }
@@ -178,12 +192,12 @@ msmcl::DeviceDepthImage to_device_depth_image(const msmcl_device_depth& depth, c
     image.width = depth.width;
     image.height = depth.height;
     image.samples = depth.samples;
-    switch (depth.layout) {
+    switch (enum_value(depth.layout)) {
     case MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE: image.layout = msmcl::SampleLayout::side_by_side; break;
     case MSMCL_SAMPLE_LAYOUT_LAYERS: image.layout = msmcl::SampleLayout::layers; break;
     default:
         throw invalid_argument{std::string(call) + ": unknown sample layout " +
-                               std::to_string(static_cast<int>(depth.layout))};
+                               std::to_string(enum_value(depth.layout))};
     }
     return image;
 }
@@ -299,7 +313,7 @@ void filter_device(msmcl_context* context, const msmcl_device_depth* depth, cons
 }
 
 // msmcl_shade and msmcl_shade_with_pixels.
-void shade_host(msmcl_context* context, msmcl_format format, int width, int height, const void* texture,
+void shade_host(msmcl_context* context, const msmcl_format& format, int width, int height, const void* texture,
                 std::size_t texture_bytes, const float* u, const float* v, const float* z, const uint32_t* pixel_x,
                 const uint32_t* pixel_y, std::size_t count, const msmcl_shade_options* options, float* intensity,
                 const char* call) {
@@ -390,7 +404,7 @@ void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, c
 extern "C" {
 
 const char* msmcl_status_name(msmcl_status status) {
-    switch (status) {
+    switch (enum_value(status)) {
     case MSMCL_SUCCESS: return "MSMCL_SUCCESS";
     case MSMCL_ERROR_INVALID_ARGUMENT: return "MSMCL_ERROR_INVALID_ARGUMENT";
     case MSMCL_ERROR_INPUT: return "MSMCL_ERROR_INPUT";
@@ -416,17 +430,24 @@ void msmcl_version(int* major, int* minor, int* patch) {
 }
 
 size_t msmcl_texel_bytes(msmcl_format format) {
-    switch (format) {
+    switch (enum_value(format)) {
     case MSMCL_FORMAT_MOMENTS128:
     case MSMCL_FORMAT_MSM64:
     case MSMCL_FORMAT_NLQ64:
-    case MSMCL_FORMAT_NLQ32: return msmcl::texel_bytes(static_cast<msmcl::Format>(format));
+    case MSMCL_FORMAT_NLQ32: return msmcl::texel_bytes(static_cast<msmcl::Format>(enum_value(format)));
     }
     return 0;
 }
 
 const char* msmcl_format_name(msmcl_format format) {
-    return msmcl_texel_bytes(format) ? msmcl::format_name(static_cast<msmcl::Format>(format)) : nullptr;
+    // The value is looked at as an integer only (see enum_value).
+    switch (enum_value(format)) {
+    case MSMCL_FORMAT_MOMENTS128:
+    case MSMCL_FORMAT_MSM64:
+    case MSMCL_FORMAT_NLQ64:
+    case MSMCL_FORMAT_NLQ32: return msmcl::format_name(static_cast<msmcl::Format>(enum_value(format)));
+    }
+    return nullptr;
 }
 
 msmcl_status msmcl_parse_format(const char* name, msmcl_format* format) {

@@ -1,10 +1,9 @@
 #include "cli/commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/stages.hpp"
+#include "cli/texture_files.hpp"
 
-#include "io/dds.hpp"
 #include "io/exr_io.hpp"
-#include "io/gpu_image.hpp"
-#include "io/ktx2.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -16,39 +15,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 
 namespace msmcl::cli {
 namespace {
-
-enum class Container { exr, ktx2, dds };
-
-/// --out-container, else the output's extension (.ktx2, .dds; anything else is EXR).
-Container parse_container_option(const std::string& text, const std::string& output) {
-    if (text.empty()) {
-        const auto ends_with = [&](const char* suffix) {
-            const std::string tail(suffix);
-            if (output.size() < tail.size()) return false;
-            std::string end = output.substr(output.size() - tail.size());
-            for (char& c : end) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-            return end == tail;
-        };
-        return ends_with(".ktx2") ? Container::ktx2 : ends_with(".dds") ? Container::dds : Container::exr;
-    }
-    if (text == "exr") return Container::exr;
-    if (text == "ktx2") return Container::ktx2;
-    if (text == "dds") return Container::dds;
-    throw usage_error("unknown --out-container '" + text + "' (expected exr, ktx2 or dds)");
-}
-
-/// A float as the shortest text that reads back to it.
-std::string float_text(float value) {
-    char text[32];
-    for (int digits = 6; digits <= 9; ++digits) {
-        std::snprintf(text, sizeof text, "%.*g", digits, static_cast<double>(value));
-        if (std::strtof(text, nullptr) == value) break;
-    }
-    return text;
-}
 
 /// --frame: a whole number in [0, 2^32 - 1].
 std::uint32_t parse_frame(const std::string& text) {
@@ -64,6 +34,112 @@ std::uint32_t parse_frame(const std::string& text) {
 /// Library input errors do not know the file; put it in front.
 [[noreturn]] void rethrow_with_file(const std::string& path, const input_error& e) {
     throw input_error(path + ": " + e.what());
+}
+
+} // namespace
+
+namespace {
+
+/// "1 program built" / "cache hit": what the stage's calls cost in program builds.
+std::string build_note(const Context& context, std::size_t built_before) {
+    const std::size_t built = context.programs_built() - built_before;
+    return built == 0 ? "cache hit" : std::to_string(built) + (built == 1 ? " program built" : " programs built");
+}
+
+/// filter() split into the stages --verbose reports: the program (built or found in a
+/// cache, by a run on a 1x1 map of the same kind), the upload, the kernels, the download.
+/// Same texels as filter(context, depth, layers, options).
+Texture filter_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
+                         const FilterOptions& options) {
+    const DepthImage& depth = layered.depth;
+    const std::size_t layer_count = layered.layers.size();
+    stages.run("program", [&] {
+        const std::size_t built = context.programs_built();
+        const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
+        DepthImage tiny{1, 1, depth.samples, std::vector<float>(static_cast<std::size_t>(depth.samples), mid)};
+        std::vector<TranslucentLayer> tiny_layers(layer_count, TranslucentLayer{tiny.depth, tiny.depth});
+        filter(context, tiny, tiny_layers, options);
+        stages.note(build_note(context, built) + ", warm-up on a 1x1 map");
+    });
+    // The depths, and the layers layer after layer, as the device calls take them.
+    const std::size_t values = depth.depth.size();
+    std::vector<float> layer_depth, layer_opacity;
+    for (const TranslucentLayer& layer : layered.layers) {
+        layer_depth.insert(layer_depth.end(), layer.depth.begin(), layer.depth.end());
+        layer_opacity.insert(layer_opacity.end(), layer.opacity.begin(), layer.opacity.end());
+    }
+    std::unique_ptr<DeviceBuffer> depth_buffer, layer_depth_buffer, layer_opacity_buffer;
+    stages.run("upload", [&] {
+        depth_buffer = std::make_unique<DeviceBuffer>(context, values * sizeof(float), depth.depth.data());
+        if (layer_count > 0) {
+            layer_depth_buffer =
+                std::make_unique<DeviceBuffer>(context, layer_depth.size() * sizeof(float), layer_depth.data());
+            layer_opacity_buffer =
+                std::make_unique<DeviceBuffer>(context, layer_opacity.size() * sizeof(float), layer_opacity.data());
+        }
+        context.finish();
+        stages.note(std::to_string((values + layer_depth.size() + layer_opacity.size()) * sizeof(float)) + " bytes");
+    });
+    Texture texture;
+    texture.format = options.format;
+    texture.width = depth.width;
+    texture.height = depth.height;
+    texture.words.resize(static_cast<std::size_t>(depth.width) * depth.height * texel_words(options.format));
+    DeviceBuffer texture_buffer(context, texture.words.size() * sizeof(std::uint32_t));
+    stages.run("kernel", [&] {
+        const DeviceDepth device_depth{depth_buffer->get(), depth.width, depth.height, depth.samples};
+        DeviceLayers device_layers;
+        if (layer_count > 0)
+            device_layers = {layer_depth_buffer->get(), layer_opacity_buffer->get(), static_cast<int>(layer_count)};
+        filter(context, device_depth, device_layers, texture_buffer.get(), options);
+        context.finish();
+    });
+    stages.run("download", [&] {
+        texture_buffer.read(context, texture.words.data());
+        stages.note(std::to_string(texture.words.size() * sizeof(std::uint32_t)) + " bytes");
+    });
+    return texture;
+}
+
+/// shade() split into stages as filter_in_stages.
+std::vector<float> shade_in_stages(Stages& stages, Context& context, const Texture& map,
+                                   const io::ReceiverGrid& receivers, const ShadeOptions& options) {
+    stages.run("program", [&] {
+        const std::size_t built = context.programs_built();
+        Receivers one;
+        one.u = {0.5f};
+        one.v = {0.5f};
+        one.z = {options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f};
+        ReceiverPixels pixel;
+        if (!receivers.pixels.x.empty()) pixel = {{0u}, {0u}};
+        shade(context, map, one, pixel, options);
+        stages.note(build_note(context, built) + ", warm-up on one receiver");
+    });
+    const std::size_t count = receivers.points.size();
+    std::vector<float> uvz;
+    uvz.reserve(3 * count);
+    for (const std::vector<float>* plane : {&receivers.points.u, &receivers.points.v, &receivers.points.z})
+        uvz.insert(uvz.end(), plane->begin(), plane->end());
+    std::vector<std::uint32_t> pixels(receivers.pixels.x);
+    pixels.insert(pixels.end(), receivers.pixels.y.begin(), receivers.pixels.y.end());
+    std::unique_ptr<DeviceBuffer> map_buffer, uvz_buffer, pixel_buffer;
+    stages.run("upload", [&] {
+        map_buffer = std::make_unique<DeviceBuffer>(context, map.words.size() * sizeof(std::uint32_t), map.words.data());
+        uvz_buffer = std::make_unique<DeviceBuffer>(context, uvz.size() * sizeof(float), uvz.data());
+        if (!pixels.empty())
+            pixel_buffer = std::make_unique<DeviceBuffer>(context, pixels.size() * sizeof(std::uint32_t), pixels.data());
+        context.finish();
+    });
+    std::vector<float> intensity(count);
+    DeviceBuffer intensity_buffer(context, count * sizeof(float));
+    stages.run("kernel", [&] {
+        const DeviceTexture device_map{map_buffer->get(), map.format, map.width, map.height};
+        shade(context, device_map, uvz_buffer->get(), pixel_buffer ? pixel_buffer->get() : nullptr, count,
+              intensity_buffer.get(), options);
+        context.finish();
+    });
+    stages.run("download", [&] { intensity_buffer.read(context, intensity.data()); });
+    return intensity;
 }
 
 } // namespace
@@ -84,37 +160,35 @@ void run_filter(const GlobalArguments& global, const FilterArguments& arguments)
     const float sigma = parse_finite_float("--sigma", arguments.sigma);
     if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + arguments.sigma + "'");
     const DepthRange range = parse_depth_range_option(arguments.depth_range);
-    const Container container = parse_container_option(arguments.out_container, arguments.output);
+    const Container container = output_container(arguments.out_container, arguments.output);
+
+    Stages stages(global.verbose, global.verbose ? 7 : 4);
 
     // Read and validate the depth map and its translucent layers (layer<k>.Z, layer<k>.A).
-    const io::TranslucentDepth layered = io::read_translucent_depth_exr(arguments.input, range);
+    const io::TranslucentDepth layered =
+        stages.run("read", [&] { return io::read_translucent_depth_exr(arguments.input, range); });
     const DepthImage& depth = layered.depth;
 
     // Filter on the device.
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     FilterOptions options;
     options.format = *format;
     options.sigma = sigma;
     options.depth_range = range;
     Texture texture;
     try {
-        texture = filter(context, depth, layered.layers, options);
+        if (stages.verbose())
+            texture = filter_in_stages(stages, context, layered, options);
+        else
+            texture = stages.run("filter", [&] { return filter(context, depth, layered.layers, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.input, e);
     }
 
     // Publish the texture with what it was made from (DDS has no place for the record).
-    if (container == Container::exr) {
-        io::write_texture_exr(arguments.output, texture, io::TextureInfo{sigma, depth.samples, range});
-        return;
-    }
-    const io::GpuImage image = io::gpu_image_of(texture, {{"msmcl:sigma", float_text(sigma)},
-                                                          {"msmcl:samples", std::to_string(depth.samples)},
-                                                          {"msmcl:depthRange", depth_range_name(range)}});
-    if (container == Container::ktx2)
-        io::write_ktx2(arguments.output, image);
-    else
-        io::write_dds(arguments.output, image);
+    stages.run("write", [&] {
+        write_texture_file(arguments.output, container, texture, io::TextureInfo{sigma, depth.samples, range});
+    });
 }
 
 void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
@@ -127,26 +201,40 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     options.frame = parse_frame(arguments.frame);
     std::optional<DepthRange> range;
     if (!arguments.depth_range.empty()) range = parse_depth_range_option(arguments.depth_range);
+    std::optional<Format> format;
+    if (!arguments.format.empty()) {
+        format = parse_format(arguments.format);
+        if (!format)
+            throw usage_error("unknown --format '" + arguments.format + "' (expected moments128, msm64, nlq64 or nlq32)");
+    }
+    require_exr_output(arguments.output);
+    Stages stages(global.verbose, global.verbose ? 7 : 4);
 
-    // Read the map and the receivers; the receivers' depth follows the map's convention
-    // unless --depth-range says otherwise.
-    const io::TextureFile map = io::read_texture_exr(arguments.map);
-    const io::ReceiverGrid receivers = io::read_receivers_exr(arguments.receivers);
+    // Read the map (EXR, KTX2 or DDS) and the receivers; the receivers' depth follows the
+    // map's convention unless --depth-range says otherwise.
+    const io::TextureFile map = stages.run("read map", [&] { return read_texture_file(arguments.map, format); });
+    const io::ReceiverGrid receivers =
+        stages.run("read receivers", [&] { return io::read_receivers_exr(arguments.receivers); });
     options.depth_range = range.value_or(map.info.depth_range);
     // Screen pixels for dither: the PX, PY channels, else the receivers' own grid.
     options.screen_width = static_cast<std::uint32_t>(receivers.width);
 
     // Shade on the device.
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> intensity;
     try {
-        intensity = shade(context, map.texture, receivers.points, receivers.pixels, options);
+        if (stages.verbose())
+            intensity = shade_in_stages(stages, context, map.texture, receivers, options);
+        else
+            intensity = stages.run(
+                "shade", [&] { return shade(context, map.texture, receivers.points, receivers.pixels, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.receivers, e);
     }
 
     // One intensity per receiver, on the receivers' grid.
-    io::write_intensity_exr(arguments.output, receivers.width, receivers.height, intensity);
+    stages.run("write",
+               [&] { io::write_intensity_exr(arguments.output, receivers.width, receivers.height, intensity); });
 }
 
 void run_devices(const GlobalArguments& global) {

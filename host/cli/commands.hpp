@@ -32,11 +32,13 @@ struct ShadeArguments {
     std::string depth_bias = "1e-3";
     std::string depth_range; ///< empty: the map's msmcl:depthRange
     std::string frame = "0"; ///< dither: the frame number (blue-noise texture and shift)
+    std::string format;      ///< empty: the map's; required for DDS maps of msm64/nlq64 texels
 };
 
 /// Global options shared by every subcommand.
 struct GlobalArguments {
     std::string device; ///< empty: default selection (MSMCL_DEVICE, else first GPU, ...)
+    bool verbose = false; ///< --verbose: a timing line per stage on stderr
     DeviceSelection selection() const;
 };
 

@@ -2,14 +2,18 @@
 // Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
 // Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>".
 #include "cli/commands.hpp"
+#include "cli/info_command.hpp"
 #include "cli/sat_commands.hpp"
 #include "cli/scatter_commands.hpp"
+#include "cli/suggestions.hpp"
+#include "io/atomic_file.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/version.hpp>
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <iostream>
 #include <new>
 #include <string>
@@ -44,6 +48,11 @@ int report(const std::string& problem, int exit_code) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // Ctrl-C or a kill while an output is written leaves no temporary file behind.
+    msmcl::io::remove_temporary_files_on_signals();
+    // Past the file size limit (ulimit -f) a write fails with EFBIG, reported like a full
+    // disk, instead of SIGXFSZ ending the process with its temporary file left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"msmcl: moment shadow maps on OpenCL (filter depth maps, shade receivers)", "msmcl"};
     app.set_version_flag("--version", std::string("msmcl ") + msmcl::version_string);
     app.require_subcommand(1);
@@ -54,8 +63,11 @@ int main(int argc, char** argv) {
     msmcl::cli::GlobalArguments global;
     app.add_option("--device", global.device,
                    "OpenCL device: gpu, cpu, an index, P:D (platform:device) or a name substring; "
-                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown SPEC is an error")
-        ->type_name("SPEC");
+                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error")
+        ->type_name("DEVICE");
+    app.add_flag("--verbose", global.verbose,
+                 "print a timing line per stage on stderr (read, device setup, program build or cache hit, "
+                 "upload, kernel, download, write)");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--out-container C]
     msmcl::cli::FilterArguments filter;
@@ -79,7 +91,7 @@ int main(int argc, char** argv) {
     msmcl::cli::ShadeArguments shade;
     CLI::App* shade_command =
         app.add_subcommand("shade", "Filtered map + receivers (EXR U,V,Z) -> shadow intensity (EXR Y)");
-    shade_command->add_option("map", shade.map, "texture EXR written by msmcl filter")->required();
+    shade_command->add_option("map", shade.map, "texture written by msmcl filter (EXR, KTX2 or DDS)")->required();
     shade_command->add_option("receivers", shade.receivers,
                               "receivers EXR (FLOAT U, V in texels, Z depth; optional PX, PY screen pixels)")
         ->required();
@@ -96,6 +108,9 @@ int main(int argc, char** argv) {
     shade_command->add_option("--depth-range", shade.depth_range,
                               "depth convention of the receivers: 0,1 or -1,1 (default: the map's)")
         ->type_name("RANGE");
+    shade_command->add_option("--format", shade.format,
+                              "the map's format (default: the file's; required for DDS msm64/nlq64 maps)")
+        ->type_name("FORMAT");
 
     // msmcl sat ... and msmcl soft ... (host/cli/sat_commands.cpp)
     msmcl::cli::SatCommands sat_commands;
@@ -107,6 +122,10 @@ int main(int argc, char** argv) {
 
     CLI::App* devices_command = app.add_subcommand("devices", "List OpenCL devices; marks the one msmcl picks");
 
+    // msmcl info FILE... [--json] (host/cli/info_command.cpp)
+    msmcl::cli::InfoArguments info;
+    msmcl::cli::add_info_command(app, info);
+
     // Parse: help and version go to stdout with exit 0, every other parse error is usage.
     try {
         app.parse(argc, argv);
@@ -117,7 +136,10 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        return report(e.what(), exit_bad_input);
+        // A typo reads as a missing word to CLI11: name the unknown word instead.
+        const std::vector<std::string> arguments(argv + 1, argv + argc);
+        const std::optional<std::string> unknown = msmcl::cli::unknown_word_message(app, arguments);
+        return report(unknown ? *unknown : std::string(e.what()), exit_bad_input);
     }
 
     // Run the chosen subcommand and map failures to exit codes.
@@ -125,6 +147,7 @@ int main(int argc, char** argv) {
         if (filter_command->parsed()) msmcl::cli::run_filter(global, filter);
         else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
         else if (devices_command->parsed()) msmcl::cli::run_devices(global);
+        else if (info.command->parsed()) msmcl::cli::run_info(info);
         else if (scatter.command->parsed()) msmcl::cli::run_scatter(global, scatter);
         else msmcl::cli::run_sat_commands(global, sat_commands);
         return 0;

@@ -1,5 +1,7 @@
 #include "cli/sat_commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/stages.hpp"
+#include "cli/texture_files.hpp"
 
 #include "io/exr_io.hpp"
 #include "io/sat_exr.hpp"
@@ -7,6 +9,7 @@
 #include <msmcl/errors.hpp>
 #include <msmcl/sat.hpp>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -26,10 +29,10 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     // msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range R]
     SatArguments& sat = commands.sat;
     CLI::App* sat_command = app.add_subcommand(
-        "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, UINT R,G,B,A)");
+        "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, KTX2 or DDS)");
     sat_command->add_option("input", sat.input, "depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A)")
         ->required();
-    sat_command->add_option("output", sat.output, "table EXR to write")->required();
+    sat_command->add_option("output", sat.output, "table to write (.exr; .ktx2 or .dds: KTX2 or DDS)")->required();
     sat_command->add_option("--max-kernel", sat.max_kernel,
                             "N: texels of the largest rectangle ever queried (precision log2(2^32/N) bits)")
         ->capture_default_str()
@@ -37,13 +40,16 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     sat_command->add_option("--depth-range", sat.depth_range, "depth convention of the input: 0,1 or -1,1")
         ->capture_default_str()
         ->type_name("RANGE");
+    sat_command->add_option("--out-container", sat.out_container,
+                            "exr, ktx2 or dds (default: from the output's extension)")
+        ->type_name("CONTAINER");
     commands.sat_command = sat_command;
 
     // msmcl soft SAT.exr RECEIVERS.exr OUT.exr --light-size L [--search-size K] ...
     SoftArguments& soft = commands.soft;
     CLI::App* soft_command = app.add_subcommand(
         "soft", "Summed-area table + receivers (EXR U,V,Z) -> soft shadow intensity (EXR Y), directional light");
-    soft_command->add_option("table", soft.table, "table EXR written by msmcl sat")->required();
+    soft_command->add_option("table", soft.table, "table written by msmcl sat (EXR, KTX2 or DDS)")->required();
     soft_command->add_option("receivers", soft.receivers, "receivers EXR (FLOAT U, V in texels, Z depth)")->required();
     soft_command->add_option("output", soft.output, "intensity EXR to write (channel Y)")->required();
     soft_command->add_option("--light-size", soft.light_size,
@@ -63,6 +69,9 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     soft_command->add_option("--depth-range", soft.depth_range,
                              "depth convention of the receivers: 0,1 or -1,1 (default: the table's)")
         ->type_name("RANGE");
+    soft_command->add_option("--max-kernel", soft.max_kernel,
+                             "N the table was built for (default: the table's; required for DDS tables)")
+        ->type_name("N");
     commands.soft_command = soft_command;
 }
 
@@ -84,20 +93,38 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
     options.max_kernel_texels = static_cast<std::uint32_t>(
         parse_integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
     options.depth_range = parse_depth_range_option(arguments.depth_range);
+    const Container container = output_container(arguments.out_container, arguments.output);
+
+    Stages stages(global.verbose, global.verbose ? 5 : 4);
 
     // Read and validate the depth map (and its translucent layers), build the table on the device.
-    const io::TranslucentDepth layered = io::read_translucent_depth_exr(arguments.input, options.depth_range);
+    const io::TranslucentDepth layered =
+        stages.run("read", [&] { return io::read_translucent_depth_exr(arguments.input, options.depth_range); });
     const DepthImage& depth = layered.depth;
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
+    if (stages.verbose())
+        stages.run("program", [&] {
+            // A table of a 1x1 map of the same kind builds (or finds) the programs.
+            const std::size_t built = context.programs_built();
+            const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
+            const DepthImage tiny{1, 1, depth.samples, std::vector<float>(static_cast<std::size_t>(depth.samples), mid)};
+            build_sat(context, tiny, std::vector<TranslucentLayer>(layered.layers.size(), {tiny.depth, tiny.depth}),
+                      options);
+            const std::size_t now = context.programs_built() - built;
+            stages.note(now == 0 ? "cache hit" : std::to_string(now) + " programs built");
+        });
     SatTable table;
     try {
-        table = build_sat(context, depth, layered.layers, options);
+        table = stages.run("table build (upload, kernels, download)",
+                           [&] { return build_sat(context, depth, layered.layers, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.input, e);
     }
 
     // Publish the table with what a reader needs to query it.
-    io::write_sat_exr(arguments.output, table, io::SatInfo{options.depth_range, depth.samples});
+    stages.run("write", [&] {
+        write_sat_file(arguments.output, container, table, io::SatInfo{options.depth_range, depth.samples});
+    });
 }
 
 void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
@@ -112,10 +139,18 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     options.depth_bias = parse_finite_float("--depth-bias", arguments.depth_bias);
     std::optional<DepthRange> range;
     if (!arguments.depth_range.empty()) range = parse_depth_range_option(arguments.depth_range);
+    std::optional<std::uint32_t> max_kernel;
+    if (!arguments.max_kernel.empty())
+        max_kernel = static_cast<std::uint32_t>(
+            parse_integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
+    require_exr_output(arguments.output);
 
-    // Read the table and the receivers; limits that depend on the table's N are checked here.
-    const io::SatFile table = io::read_sat_exr(arguments.table);
-    const io::ReceiverGrid receivers = io::read_receivers_exr(arguments.receivers);
+    // Read the table (EXR, KTX2 or DDS) and the receivers; limits that depend on the table's
+    // N are checked here.
+    Stages stages(global.verbose, 5);
+    const io::SatFile table = stages.run("read table", [&] { return read_sat_file(arguments.table, max_kernel); });
+    const io::ReceiverGrid receivers =
+        stages.run("read receivers", [&] { return io::read_receivers_exr(arguments.receivers); });
     options.depth_range = range.value_or(table.info.depth_range);
     try {
         soft_shadow_limits(table.table.max_kernel_texels, options);
@@ -125,14 +160,16 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     }
 
     // Shade on the device.
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> intensity;
     try {
-        intensity = soft_shade(context, table.table, receivers.points, options);
+        intensity = stages.run("soft shadows (program, upload, kernel, download)",
+                               [&] { return soft_shade(context, table.table, receivers.points, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.receivers, e);
     }
-    io::write_intensity_exr(arguments.output, receivers.width, receivers.height, intensity);
+    stages.run("write",
+               [&] { io::write_intensity_exr(arguments.output, receivers.width, receivers.height, intensity); });
 }
 
 } // namespace msmcl::cli

@@ -1,7 +1,8 @@
-// The summed-area table subcommands of msmcl (SPEC section 5):
-//   msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range 0,1|-1,1]
-//   msmcl soft SAT.exr RECEIVERS.exr OUT.exr --light-size L [--search-size K]
-//              [--min-filter F] [--depth-bias B] [--depth-range R]
+// The summed-area table subcommands of msmcl (docs/math.md):
+//   msmcl sat IN.exr OUT.exr|OUT.ktx2|OUT.dds [--max-kernel N] [--depth-range 0,1|-1,1]
+//             [--out-container C]
+//   msmcl soft SAT.exr|SAT.ktx2|SAT.dds RECEIVERS.exr OUT.exr --light-size L [--search-size K]
+//              [--min-filter F] [--depth-bias B] [--depth-range R] [--max-kernel N]
 // As the other subcommands: options are checked before any file is touched, inputs are
 // read and outputs written through msmcl::io (atomic writes), errors map to exit codes 2/1.
 #pragma once
@@ -19,6 +20,7 @@ struct SatArguments {
     std::string output;
     std::string max_kernel = "729";
     std::string depth_range = "0,1";
+    std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension
 };
 
 struct SoftArguments {
@@ -30,6 +32,7 @@ struct SoftArguments {
     std::string min_filter = "1";
     std::string depth_bias = "1e-3";
     std::string depth_range; ///< empty: the table's msmcl:depthRange
+    std::string max_kernel;  ///< empty: the table's; required for DDS tables
 };
 
 /// The two subcommands and what they parsed.

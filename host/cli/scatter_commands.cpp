@@ -1,7 +1,12 @@
 #include "cli/scatter_commands.hpp"
 #include "cli/option_values.hpp"
+#include "cli/stages.hpp"
+#include "cli/texture_files.hpp"
 
 #include "io/exr_io.hpp"
+#include "io/scene_json.hpp"
+#include "io/gpu_image.hpp"
+#include "io/ktx2.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/scatter.hpp>
@@ -44,6 +49,28 @@ void write_moments_exr(const std::string& path, int width, int height, int momen
     io::write_exr(path, image);
 }
 
+/// The prefiltered map as a renderer uploads it (KTX2): 6 moments as a 2-layer array of
+/// A2B10G10R10_UNORM_PACK32 (layer 0 the odd powers, layer 1 the even ones), 4 moments as
+/// R16G16B16A16_UNORM (the msm64 layout).
+void write_scatter_map_ktx2(const std::string& path, const ScatterMap& map) {
+    io::GpuImage image;
+    image.width = map.width;
+    image.height = map.height;
+    if (map.moments == 6) {
+        image.format = io::GpuFormat::a2b10g10r10_unorm_pack32;
+        image.layers = 2;
+        image.array = true;
+    } else {
+        image.format = io::GpuFormat::r16g16b16a16_unorm;
+    }
+    image.bytes.resize(map.words.size() * sizeof(std::uint32_t));
+    for (std::size_t i = 0; i < map.words.size(); ++i)
+        for (int b = 0; b < 4; ++b) image.bytes[4 * i + b] = static_cast<std::uint8_t>(map.words[i] >> (8 * b));
+    image.metadata = {{"msmcl:format", "scatter" + std::to_string(map.moments)},
+                      {"msmcl:scatterMoments", std::to_string(map.moments)}};
+    io::write_ktx2(path, image);
+}
+
 } // namespace
 
 void add_scatter_command(CLI::App& app, ScatterArguments& a) {
@@ -71,6 +98,10 @@ void add_scatter_command(CLI::App& app, ScatterArguments& a) {
         ->type_name("FILE");
     command->add_option("--prefix-sums", a.prefix_sums, "also write the stored prefix sums, decoded (EXR b1..bk)")
         ->type_name("FILE");
+    command->add_option("--map", a.map,
+                        "also write the prefiltered map as KTX2 (6 moments: 2 layers of A2B10G10R10_UNORM_PACK32, "
+                        "4: R16G16B16A16_UNORM)")
+        ->type_name("FILE.ktx2");
     a.command = command;
 }
 
@@ -90,13 +121,21 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     }
     const int ray_steps = a.ray_march.empty() ? 0 : static_cast<int>(parse_integer("--ray-march", a.ray_march, 1, 1 << 20));
     const auto jitter = static_cast<std::uint32_t>(parse_integer("--jitter", a.jitter, 0, 0xffffffffL));
-    if (ray_steps > 0 && (!a.rectified.empty() || !a.prefix_sums.empty()))
-        throw usage_error("--rectified and --prefix-sums need the prefiltered method (no --ray-march)");
+    if (ray_steps > 0 && (!a.rectified.empty() || !a.prefix_sums.empty() || !a.map.empty()))
+        throw usage_error("--rectified, --prefix-sums and --map need the prefiltered method (no --ray-march)");
+    // Every output of scatter is OpenEXR but the renderer's map (KTX2).
+    require_exr_output(a.output);
+    if (!a.rectified.empty()) require_exr_output(a.rectified);
+    if (!a.prefix_sums.empty()) require_exr_output(a.prefix_sums);
+
+    Stages stages(global.verbose, 6);
 
     // Read and check the inputs.
-    const ScatterScene scene = load_scatter_scene(a.scene);
-    const DepthImage shadow_map = io::read_depth_exr(a.shadow_map, scene.light.depth_range);
-    const std::vector<float> camera_depth = read_camera_depth(a.camera_depth, scene);
+    const ScatterScene scene = stages.run("read scene", [&] { return load_scatter_scene(a.scene); });
+    const DepthImage shadow_map =
+        stages.run("read shadow map", [&] { return io::read_depth_exr(a.shadow_map, scene.light.depth_range); });
+    const std::vector<float> camera_depth =
+        stages.run("read camera depth", [&] { return read_camera_depth(a.camera_depth, scene); });
     try {
         validate_scatter_inputs(scene, shadow_map, camera_depth);
     } catch (const input_error& e) {
@@ -105,22 +144,26 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     }
 
     // Compute on the device.
-    Context context(global.selection());
+    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> radiance;
     std::string method;
-    if (ray_steps > 0) {
-        radiance = scatter_ray_march(context, scene, shadow_map, camera_depth, ray_steps, jitter);
-        method = "ray_march_" + std::to_string(ray_steps);
-    } else {
-        radiance = scatter(context, scene, shadow_map, camera_depth, options);
-        method = "prefiltered_" + std::to_string(options.moments) + (options.filtered ? "_filtered" : "_unfiltered");
-    }
+    stages.run("scatter (program, upload, kernels, download)", [&] {
+        if (ray_steps > 0) {
+            radiance = scatter_ray_march(context, scene, shadow_map, camera_depth, ray_steps, jitter);
+            method = "ray_march_" + std::to_string(ray_steps);
+        } else {
+            radiance = scatter(context, scene, shadow_map, camera_depth, options);
+            method = "prefiltered_" + std::to_string(options.moments) + (options.filtered ? "_filtered" : "_unfiltered");
+        }
+    });
     if (!a.rectified.empty())
         write_moments_exr(a.rectified, scene.rectified_width, scene.rectified_height, options.moments,
                           scatter_rectified_moments(context, scene, shadow_map, options, false), "resampled");
-    if (!a.prefix_sums.empty()) {
+    if (!a.prefix_sums.empty() || !a.map.empty()) {
         const ScatterMap map = scatter_prefilter(context, scene, shadow_map, options);
-        write_moments_exr(a.prefix_sums, map.width, map.height, map.moments, decode_scatter_map(map), "prefix sums");
+        if (!a.prefix_sums.empty())
+            write_moments_exr(a.prefix_sums, map.width, map.height, map.moments, decode_scatter_map(map), "prefix sums");
+        if (!a.map.empty()) write_scatter_map_ktx2(a.map, map);
     }
 
     // The radiance per camera pixel.
@@ -129,7 +172,7 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     image.height = scene.camera.height;
     image.channels = {{"Y", io::SampleType::float32, radiance, {}}};
     image.attributes = {{"msmcl:scatterMethod", method}};
-    io::write_exr(a.output, image);
+    stages.run("write", [&] { io::write_exr(a.output, image); });
 }
 
 } // namespace msmcl::cli

@@ -1,4 +1,4 @@
-// The single-scattering subcommand of msmcl (SPEC section 6):
+// The single-scattering subcommand of msmcl (docs/math.md):
 //   msmcl scatter SCENE.json SHADOWMAP.exr CAMERA_DEPTH.exr OUT.exr [--moments 4|6]
 //                 [--no-filter] [--sigma S] [--beta adaptive|B] [--ray-march N [--jitter SEED]]
 //                 [--rectified FILE] [--prefix-sums FILE]
@@ -27,6 +27,7 @@ struct ScatterArguments {
     std::string jitter = "0";
     std::string rectified;   ///< optional EXR of the resampled moments
     std::string prefix_sums; ///< optional EXR of the stored (quantized) prefix sums
+    std::string map;         ///< optional KTX2 of the prefiltered map, as a renderer uploads it
     CLI::App* command = nullptr;
 };
 

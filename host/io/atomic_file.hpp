@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace msmcl::io {
@@ -13,7 +14,14 @@ namespace msmcl::io {
 /// and msmcl::error when writing fails midway (disk full, I/O error).
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);
 
-/// The whole content of a file. Throws input_error naming the file when it cannot be read.
-std::string read_whole_file(const std::string& path);
+/// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress
+/// before the process ends by the signal as it would have (the handler unlinks, restores
+/// the default action and raises the signal again). For programs (the CLI); a library
+/// leaves signal dispositions to its host. A disposition set to ignore stays ignored.
+void remove_temporary_files_on_signals();
+
+/// The whole content of a file. Throws input_error naming the file when it cannot be read,
+/// or when it is larger than `max_bytes` (checked before reading).
+std::string read_whole_file(const std::string& path, std::uint64_t max_bytes = UINT64_MAX);
 
 } // namespace msmcl::io

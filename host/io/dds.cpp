@@ -2,6 +2,7 @@
 #include "io/dds.hpp"
 
 #include "io/atomic_file.hpp"
+#include "io/image_limits.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -123,7 +124,7 @@ void write_dds(const std::string& path, const GpuImage& image) {
 }
 
 GpuImage read_dds(const std::string& path) {
-    const std::string content = read_whole_file(path);
+    const std::string content = read_whole_file(path, image_limits().max_bytes);
     return decode_dds(std::vector<std::uint8_t>(content.begin(), content.end()), path);
 }
 

@@ -1,11 +1,13 @@
 #include "io/exr_io.hpp"
 
 #include "io/atomic_file.hpp"
+#include "io/image_limits.hpp"
 
 #include <msmcl/errors.hpp>
 
 #include <ImfAttribute.h>
 #include <ImfChannelList.h>
+#include <ImfCompression.h>
 #include <ImfFloatAttribute.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -77,6 +79,25 @@ Imf::PixelType to_pixel_type(SampleType type) {
     return Imf::FLOAT;
 }
 
+/// The largest ratio of decoded to stored bytes a compression method can reach (rounded
+/// up): RLE stores a run of up to 128 bytes in 2; zlib (ZIP, ZIPS, and PXR24 after its
+/// 24-bit rounding) expands at most 1032-fold; PIZ's Huffman coder spends at least 10 bits
+/// on a run of 256 values of 2 bytes; B44 stores 4x4 HALF blocks in 3 bytes at least; DWA
+/// chains run-length coding and zlib, and unknown methods get the same generous bound.
+std::uint64_t max_expansion(Imf::Compression compression) {
+    switch (compression) {
+    case Imf::NO_COMPRESSION: return 1;
+    case Imf::RLE_COMPRESSION: return 64;
+    case Imf::ZIPS_COMPRESSION:
+    case Imf::ZIP_COMPRESSION: return 1032;
+    case Imf::PXR24_COMPRESSION: return 1376;
+    case Imf::PIZ_COMPRESSION: return 410;
+    case Imf::B44_COMPRESSION:
+    case Imf::B44A_COMPRESSION: return 11;
+    default: return 64 * 1032;
+    }
+}
+
 /// An Imf input stream over bytes already in memory; reading past the end throws, which
 /// OpenEXR reports as a truncated file.
 class MemoryInputStream : public Imf::IStream {
@@ -107,12 +128,15 @@ class ExrReader {
 public:
     explicit ExrReader(const std::string& path) : path_(path) {
         // Load the bytes and look at the magic number before OpenEXR does.
-        std::string bytes = read_whole_file(path);
+        std::string bytes = read_whole_file(path, image_limits().max_bytes);
+        const std::uint64_t file_bytes = bytes.size();
         if (bytes.size() < 4 || !Imf::isImfMagic(bytes.data())) fail(path, "not an OpenEXR file");
 
         // Check the first header alone before OpenEXR sizes its tables by the data window.
         stream_ = std::make_unique<MemoryInputStream>(path, std::move(bytes));
         Imath::Box2i window;
+        std::uint64_t stored_bytes_per_texel = 0, decoded_bytes_per_texel = 0;
+        Imf::Compression compression = Imf::NO_COMPRESSION;
         try {
             char magic_and_version[8];
             stream_->read(magic_and_version, 8);
@@ -123,6 +147,12 @@ public:
             Imf::Header first_header;
             first_header.readFrom(*stream_, version);
             window = first_header.dataWindow();
+            // What the channels take per texel: in the file, and as msmcl holds them (4 bytes).
+            for (auto it = first_header.channels().begin(); it != first_header.channels().end(); ++it) {
+                stored_bytes_per_texel += it.channel().type == Imf::HALF ? 2 : 4;
+                decoded_bytes_per_texel += 4;
+            }
+            compression = first_header.compression();
         } catch (const std::exception& e) {
             fail(path, openexr_problem(path, e));
         }
@@ -133,6 +163,10 @@ public:
         if (width > max_image_side || height > max_image_side)
             fail(path, "data window " + std::to_string(width) + " x " + std::to_string(height) +
                            " is too large (at most " + std::to_string(max_image_side) + " per side)");
+        // Limits, and the claimed size against what the file can hold, before OpenEXR
+        // allocates its line buffers or msmcl its channels.
+        check_image_size(path, static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height),
+                         stored_bytes_per_texel, decoded_bytes_per_texel, file_bytes, max_expansion(compression));
         width_ = static_cast<int>(width);
         height_ = static_cast<int>(height);
 
@@ -763,7 +797,7 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
     if (texture.words.size() != texels * words_per_texel) fail(path, "texture size does not match its data");
     if (!std::isfinite(info.sigma) || info.sigma < 0.0f) fail(path, "sigma must be finite and >= 0");
 
-    // Split texels into channels as SPEC section 8 lays them out.
+    // Split texels into channels as docs/formats.md lays them out.
     const TextureLayout layout = texture_layout(texture.format);
     ExrImage image;
     image.width = texture.width;

@@ -6,9 +6,7 @@
 // no time stamps, attributes only as given.
 #pragma once
 
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/shade.hpp>
+#include <msmcl/types.hpp>
 
 #include <cstdint>
 #include <string>
@@ -70,7 +68,7 @@ DepthImage read_depth_exr(const std::string& path, DepthRange range);
 void write_depth_exr(const std::string& path, const DepthImage& depth,
                      SampleType type = SampleType::float32);
 
-/// A depth map with translucent layers (SPEC section 7).
+/// A depth map with translucent layers (docs/math.md).
 struct TranslucentDepth {
     DepthImage depth;
     std::vector<TranslucentLayer> layers;
@@ -112,7 +110,7 @@ struct TextureFile {
     Texture texture;
     TextureInfo info;
 };
-/// SPEC section 8: moments128 as FLOAT R,G,B,A (b1..b4); msm64 and nlq64 as UINT R,G,B,A
+/// docs/formats.md: moments128 as FLOAT R,G,B,A (b1..b4); msm64 and nlq64 as UINT R,G,B,A
 /// holding the 16-bit codes; nlq32 as one UINT R; attributes msmcl:format (string),
 /// msmcl:sigma (float), msmcl:samples (int), msmcl:depthRange (string).
 void write_texture_exr(const std::string& path, const Texture& texture, const TextureInfo& info);

@@ -2,8 +2,7 @@
 // Vulkan / DXGI pixel format and the packed texel bytes, rows top to bottom.
 #pragma once
 
-#include <msmcl/formats.hpp>
-#include <msmcl/sat.hpp>
+#include <msmcl/types.hpp>
 
 #include <cstdint>
 #include <optional>

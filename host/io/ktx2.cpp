@@ -2,6 +2,7 @@
 #include "io/ktx2.hpp"
 
 #include "io/atomic_file.hpp"
+#include "io/image_limits.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/version.hpp>
@@ -264,7 +265,7 @@ void write_ktx2(const std::string& path, const GpuImage& image) {
 }
 
 GpuImage read_ktx2(const std::string& path) {
-    const std::string content = read_whole_file(path);
+    const std::string content = read_whole_file(path, image_limits().max_bytes);
     return decode_ktx2(std::vector<std::uint8_t>(content.begin(), content.end()), path);
 }
 

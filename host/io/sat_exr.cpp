@@ -4,6 +4,8 @@
 #include "io/exr_io.hpp"
 
 #include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
+#include <msmcl/sat.hpp>
 
 #include <algorithm>
 #include <array>

@@ -3,8 +3,7 @@
 // Errors are msmcl::input_error "<file>: <problem>"; writes are atomic (exr_io.hpp).
 #pragma once
 
-#include <msmcl/formats.hpp>
-#include <msmcl/sat.hpp>
+#include <msmcl/types.hpp>
 
 #include <string>
 

@@ -1,4 +1,4 @@
-// filter: depth map -> resolved, blurred, quantized moment shadow map (SPEC sections 2-4).
+// filter: depth map -> resolved, blurred, quantized moment shadow map (docs/math.md).
 #include "ops/kernel_variants.hpp"
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
@@ -102,7 +102,7 @@ void validate_device_sizes(const DeviceInfo& device, int width, int height, int 
     const unsigned long long texels = texel_count(width, height);
     const auto check = [&](unsigned long long bytes, const char* what) {
         if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes) {
-            throw input_error(std::string("filter: ") + what + " for a " + describe_size(width, height, samples) +
+            throw device_error(std::string("filter: ") + what + " for a " + describe_size(width, height, samples) +
                               " depth map needs " + std::to_string(bytes) + " bytes, more than the device's " +
                               "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
         }

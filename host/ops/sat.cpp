@@ -70,7 +70,7 @@ void validate_depth_values(const DepthImage& depth, DepthRange range) {
 // Buffers of a call against the device's largest allocation.
 void validate_device_bytes(const DeviceInfo& device, unsigned long long bytes, const std::string& what) {
     if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes)
-        throw input_error("sat: " + what + " needs " + std::to_string(bytes) + " bytes, more than the device's " +
+        throw device_error("sat: " + what + " needs " + std::to_string(bytes) + " bytes, more than the device's " +
                           "largest buffer (" + std::to_string(device.max_alloc_bytes) + " bytes)");
 }
 
@@ -276,6 +276,8 @@ cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue
                         const cl::Buffer& source, const SatSource& what, int width, int height,
                         const cl::Buffer& table, SatKernel kernel) {
     validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " table");
+    // Scratch held by this call is released even when an enqueue throws.
+    const detail::ContextImpl::ScratchSession scratch_session(impl);
     switch (kernel) {
     case SatKernel::row_per_thread:
         return enqueue_rows_per_thread(impl, queue, waits, source, what, width, height, table);

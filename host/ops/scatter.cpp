@@ -27,7 +27,8 @@ double dot(const Vector3& a, const Vector3& b) { return a[0] * b[0] + a[1] * b[1
 Vector3 cross(const Vector3& a, const Vector3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-Vector3 normalize(const Vector3& a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
+double length(const Vector3& a) { return std::sqrt(dot(a, a)); }
+Vector3 normalize(const Vector3& a) { return (1.0 / length(a)) * a; }
 
 /// World vector in light coordinates (right, up, direction).
 Vector3 to_light(const detail::LightFrame& light, const Vector3& v) {
@@ -87,6 +88,11 @@ std::string number_text(double x) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", x);
     return text;
+}
+
+/// Sine of the angle between two non-zero vectors.
+double sine_between(const Vector3& a, const Vector3& b) {
+    return length(cross(a, b)) / (length(a) * length(b));
 }
 
 double wrap_angle(double phi) {
@@ -171,6 +177,57 @@ msm_scatter_params make_scatter_params(const ScatterScene& scene, const Rectific
 }
 
 } // namespace detail
+
+void validate_scatter_scene(const ScatterScene& scene) {
+    const auto require = [](bool ok, const std::string& problem) {
+        if (!ok) throw input_error(problem);
+    };
+    const auto finite3 = [](const Vector3& v) {
+        return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    };
+    const ScatterLight& light = scene.light;
+    require(finite3(light.direction) && length(light.direction) > 0, "light.direction: must be a non-zero finite vector");
+    require(finite3(light.up) && length(light.up) > 0, "light.up: must be a non-zero finite vector");
+    require(sine_between(light.direction, light.up) > 1e-6, "light.up: parallel to light.direction");
+    require(finite3(light.center), "light.center: not finite");
+    require(std::isfinite(light.width) && light.width > 0 && std::isfinite(light.height) && light.height > 0,
+            "light.width/height: the map's extent must be positive");
+    require(std::isfinite(light.near) && std::isfinite(light.far) && light.far > light.near,
+            "light.near/far: need near < far (got " + number_text(light.near) + ", " + number_text(light.far) + ")");
+
+    const ScatterCamera& camera = scene.camera;
+    require(finite3(camera.position), "camera.position: not finite");
+    require(finite3(camera.forward) && length(camera.forward) > 0, "camera.forward: must be a non-zero finite vector");
+    require(finite3(camera.up) && length(camera.up) > 0, "camera.up: must be a non-zero finite vector");
+    require(sine_between(camera.forward, camera.up) > 1e-6, "camera.up: parallel to the viewing direction");
+    require(std::isfinite(camera.vertical_fov_degrees) && camera.vertical_fov_degrees > 0 &&
+                camera.vertical_fov_degrees < 170,
+            "camera.fov_y_degrees: must be in (0, 170), got " + number_text(camera.vertical_fov_degrees));
+    require(std::isfinite(camera.near) && camera.near > 0 && std::isfinite(camera.far) && camera.far > camera.near,
+            "camera.near/far: need 0 < near < far (got " + number_text(camera.near) + ", " +
+                number_text(camera.far) + ")");
+    require(camera.width >= 1 && camera.height >= 1 && camera.width <= 65536 && camera.height <= 65536,
+            "camera.width/height: must be in [1, 65536]");
+    // Wide views: the horizontal half-angle must stay below 90 degrees too.
+    const double half = 0.5 * camera.vertical_fov_degrees * 3.14159265358979323846 / 180.0;
+    require(std::tan(half) * camera.width / camera.height < 1e3, "camera: the horizontal field of view is too wide");
+
+    const ScatterMedium& medium = scene.medium;
+    require(std::isfinite(medium.extinction) && medium.extinction > 0,
+            "medium.extinction: must be > 0 (got " + number_text(medium.extinction) +
+                "); prefiltered single scattering weighs by the transmittance exp(-extinction t) and divides by "
+                "the extinction");
+    require(std::isfinite(medium.phase_g) && medium.phase_g > -1 && medium.phase_g < 1,
+            "medium.phase_g: must be in (-1, 1), got " + number_text(medium.phase_g));
+    require(std::isfinite(medium.irradiance) && medium.irradiance >= 0,
+            "medium.irradiance: must be finite and >= 0");
+
+    require(scene.rectified_width >= 1 && scene.rectified_height >= 1 && scene.rectified_width <= 65536 &&
+                scene.rectified_height <= 65536,
+            "rectified.width/height: must be in [1, 65536]");
+    require(std::isfinite(scene.guard_band) && scene.guard_band >= 0 && scene.guard_band <= 1,
+            "rectified.guard_band: must be in [0, 1]");
+}
 
 RectificationBounds rectification_bounds(const ScatterScene& scene) {
     validate_scatter_scene(scene);
@@ -277,7 +334,7 @@ void check_map_fits(const detail::ContextImpl& impl, const ScatterScene& scene, 
     const unsigned long long bytes =
         static_cast<unsigned long long>(scene.rectified_width) * scene.rectified_height * bytes_per_texel;
     if (bytes > impl.info.max_alloc_bytes)
-        throw input_error("scatter: a " + std::to_string(scene.rectified_width) + "x" +
+        throw device_error("scatter: a " + std::to_string(scene.rectified_width) + "x" +
                           std::to_string(scene.rectified_height) + " rectified map exceeds the device's largest buffer");
 }
 

@@ -4,7 +4,7 @@
 
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/device_math.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +35,7 @@ void check_map_shape(Format format, int width, int height, const detail::Context
         throw input_error("shade: the map is empty (" + std::to_string(width) + "x" + std::to_string(height) + ")");
     const unsigned long long bytes = static_cast<unsigned long long>(width) * height * texel_bytes(format);
     if (bytes > impl.info.max_alloc_bytes)
-        throw input_error("shade: a " + std::to_string(width) + "x" + std::to_string(height) + " " +
+        throw device_error("shade: a " + std::to_string(width) + "x" + std::to_string(height) + " " +
                           format_name(format) + " map exceeds the device's largest buffer (" +
                           std::to_string(impl.info.max_alloc_bytes) + " bytes)");
 }

@@ -138,7 +138,7 @@ std::vector<float> soft_shade(Context& context, const SatTable& table, const Rec
     detail::ContextImpl& impl = context.impl();
     const std::size_t table_bytes = table.words.size() * sizeof(std::uint32_t);
     if (impl.info.max_alloc_bytes != 0 && table_bytes > impl.info.max_alloc_bytes)
-        throw input_error("soft: a " + std::to_string(table.width) + "x" + std::to_string(table.height) +
+        throw device_error("soft: a " + std::to_string(table.width) + "x" + std::to_string(table.height) +
                           " table exceeds the device's largest buffer (" + std::to_string(impl.info.max_alloc_bytes) +
                           " bytes)");
     cl_int status = CL_SUCCESS;

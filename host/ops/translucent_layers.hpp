@@ -1,8 +1,8 @@
-// Translucent layers as filter() and build_sat() take them (include/msmcl/filter.hpp):
+// Translucent layers as filter() and build_sat() take them (include/msmcl/types.hpp):
 // validation and the device layout (layer after layer).
 #pragma once
 
-#include <msmcl/filter.hpp>
+#include <msmcl/types.hpp>
 
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// Double-precision ground truth of the filter (SPEC section 2): resolve, 9-tap Gaussian
+// Double-precision ground truth of the filter (docs/math.md): resolve, 9-tap Gaussian
 // with clamp-to-edge, horizontal then vertical. Independent of kernels/ and of the
 // library: plain loops over plain arrays. The moment math (bias, Algorithm 2, encoders)
 // is in reference/moment_math.hpp.

@@ -1,5 +1,5 @@
 // Double-precision (long double where it helps) reference of the moment math. Written
-// from SPEC.md and seed 003 without looking at kernels/*.clh: different formulas where the
+// from docs/math.md and Peters, HPG 2017 without looking at kernels/*.clh: different formulas where the
 // papers offer them (xi4 by Eq. 1, Gaussian elimination instead of Cholesky, bit layouts by
 // arithmetic instead of shifts).
 #include "reference/moment_math.hpp"

@@ -1,6 +1,6 @@
-// Double-precision reference of the moment math (SPEC section 3, seed 003), written
+// Double-precision reference of the moment math (docs/math.md, Peters, HPG 2017), written
 // independently of kernels/*.clh: moments, bias, Algorithm 2, Psi4, the texel encoders and
-// decoders, a generic 4MSM (Algorithm 1 of seed 003) and exact filtered shadows.
+// decoders, a generic 4MSM (Algorithm 1 of Peters, HPG 2017) and exact filtered shadows.
 #pragma once
 
 #include <array>
@@ -52,10 +52,10 @@ Moments shift(const Moments& b, double c);
 /// Algorithm 2 in long double. A (numerically) zero variance gives y1 = y2 = b1, v2 = 1/2,
 /// xi4 = 0. Nothing is clamped.
 Nlq nlq_from_moments(const Moments& biased);
-/// Eq. 4 of seed 003: (1 - v2) b(y1) + v2 b(y2) + (0, 0, 0, xi4).
+/// Eq. 4 of Peters, HPG 2017: (1 - v2) b(y1) + v2 b(y2) + (0, 0, 0, xi4).
 Moments moments_from_nlq(const Nlq& nlq);
 
-/// Psi4 of SPEC section 3 (xi4 clamped to [1.2e-7, 0.25]) and its inverse.
+/// Psi4 of docs/math.md (xi4 clamped to [1.2e-7, 0.25]) and its inverse.
 double psi4(double xi4);
 double psi4_inverse(double psi);
 
@@ -87,13 +87,13 @@ Nlq32Fields unpack_nlq32(std::uint32_t word);
 std::uint32_t encode_nlq32(const Nlq& nlq);
 Nlq decode_nlq32(std::uint32_t word);
 
-/// Generic 4MSM (Algorithm 1 of seed 003) on biased moments, in long double: Hankel system
+/// Generic 4MSM (Algorithm 1 of Peters, HPG 2017) on biased moments, in long double: Hankel system
 /// B q = (1, zf, zf^2), roots of the quadratic, weights from the Vandermonde system.
 /// Singular B (at most two points of support): the exact shares of that distribution.
 Bounds hamburger4(const Moments& biased, double zf);
 
 /// Shadow of an nlq texel: moments rebuilt by Eq. 4, then the generic 4MSM lower bound.
-/// With algorithm3_clamps, first the clamps that SPEC's Algorithm 3 applies:
+/// With algorithm3_clamps, first the clamps that Algorithm 3 of docs/math.md applies:
 /// y2 - y1 >= 1e-6, 1e-6 <= v2 <= 1 - 1e-6 (the texel the shading actually sees).
 double nlq_shadow(const Nlq& nlq, double zf, bool algorithm3_clamps = true);
 

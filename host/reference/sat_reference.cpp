@@ -1,5 +1,5 @@
-// References for summed-area tables and soft shadows, written from SPEC section 5 and
-// seed 001 section 3 without kernels/: direct sums instead of tables, Gaussian elimination
+// References for summed-area tables and soft shadows, written from docs/math.md and
+// Peters et al., i3D 2016, section 3 without kernels/: direct sums instead of tables, Gaussian elimination
 // instead of Cholesky, explicit overlap areas instead of 3x3 sub-rectangles.
 #include "reference/sat_reference.hpp"
 

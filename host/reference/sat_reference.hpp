@@ -1,4 +1,4 @@
-// Independent references of the summed-area table work (SPEC section 5, seed 001 section 3):
+// Independent references of the summed-area table work (docs/math.md, Peters et al., i3D 2016, section 3):
 // integer texels, 64-bit direct rectangle sums and prefix sums, area-weighted float
 // integrals, moment soft shadows evaluated from direct sums in long double, and brute-force
 // percentage-closer soft shadows (PCSS) on the depth samples. Plain loops, no kernels/.
@@ -48,7 +48,7 @@ std::array<double, 4> area_weighted_mean(const SatTexels& texels, double left, d
 /// Power moments of mean channels (integers / scale), by the inverse affine basis.
 Moments moments_of_channel_mean(const std::array<double, 4>& mean_integers, std::uint32_t scale);
 
-/// Three-point reconstruction at zf behind the 4MSM bound (seed 001 section 1.2): depths
+/// Three-point reconstruction at zf behind the 4MSM bound (Peters et al., i3D 2016, section 1.2): depths
 /// zf, z2, z3 with weights matching b0..b4. Long double Gaussian elimination.
 struct ThreePoints {
     double depth[3] = {0, 0, 0};

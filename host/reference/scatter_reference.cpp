@@ -451,7 +451,7 @@ double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectificatio
         const Moments biased = bias(Moments{b[0], b[1], b[2], b[3]}, alpha_msm64, bstar_msm64);
         bounds = hamburger4(biased, zf);
     } else {
-        // SPEC alpha; b* = moments of the arcsine distribution on [-1,1]. The bounds of the
+        // alpha of docs/math.md; b* = moments of the arcsine distribution on [-1,1]. The bounds of the
         // mixture, less its known share below zf, bound the stored distribution.
         const double alpha = 4e-3, bstar[6] = {0, 0.5, 0, 0.375, 0, 0.3125};
         Moments6 biased;

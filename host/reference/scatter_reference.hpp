@@ -1,7 +1,7 @@
-// Double-precision reference of prefiltered single scattering (SPEC section 6), written
+// Double-precision reference of prefiltered single scattering (docs/math.md), written
 // independently of kernels/msm_scatter.clh and of the library: rectified coordinates and
 // their inverse, bounds by brute force over the image plane, resampling (Algorithm 1 of
-// seed 001 in long double), transmittance-weighted prefix sums, six-moment bounds by
+// Peters et al., i3D 2016 in long double), transmittance-weighted prefix sums, six-moment bounds by
 // generic linear algebra (Hankel solve, polynomial roots by bisection, Vandermonde
 // weights), and ray-marching ground truth.
 #pragma once
@@ -79,7 +79,7 @@ struct MapPoint {
 };
 MapPoint map_point(const ScatterSetup& setup, int map_width, int map_height, const Vec3& world);
 
-/// Algorithm 1 of seed 001 in long double: z2 <= z3, w3 = weight of z3; zero variance
+/// Algorithm 1 of Peters et al., i3D 2016 in long double: z2 <= z3, w3 = weight of z3; zero variance
 /// gives z2 = z3 = b1, w3 = 0.
 struct TwoDepths {
     double z2 = 0, z3 = 0, w3 = 0;
@@ -107,7 +107,7 @@ Moments6 resample_unfiltered(const ScatterSetup& setup, const ScatterRectificati
 /// [i D, (i + 1) D].
 std::vector<Moments6> prefix_sums(const std::vector<Moments6>& row, double extinction, double texel_distance);
 
-/// The six-moment texel transform of SPEC section 6 before quantization, and its inverse
+/// The six-moment texel transform of docs/math.md before quantization, and its inverse
 /// (solved by Gaussian elimination).
 std::array<double, 6> six_moment_channels(const Moments6& b);
 Moments6 six_moment_from_channels(const std::array<double, 6>& channels);

@@ -1,4 +1,4 @@
-// Double-precision reference of translucent occluders (seed 001 section 4.2, SPEC section 7):
+// Double-precision reference of translucent occluders (Peters et al., i3D 2016, section 4.2, docs/math.md):
 // the surfaces along a light ray, sorted nearest first, block the fraction a_i of the light
 // that reaches them; the depth distribution Z has weight prod_{j<i} (1 - a_j) a_i at z_i, and
 // the opaque surface takes part with a = 1. Independent of kernels/: an explicit sort and a

@@ -12,12 +12,20 @@ namespace detail {
 
 cl::Kernel& ContextImpl::kernel(const std::string& source_file, const std::vector<std::string>& defines,
                                 const std::string& kernel_name) {
-    // Device specifics and variants become #define lines in front of the embedded source.
-    const std::string source = assemble_variant_source(source_file, defines);
+    // The assembled source is cached per (file, defines): no assembly or hashing per launch.
+    const KernelSource& source = kernel_source(source_file, defines);
     std::string options = base_build_options;
     if (const std::string quirk = device_build_options(info); !quirk.empty()) options += ' ' + quirk;
-    if (!extra_build_options.empty()) options += ' ' + extra_build_options;
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (!extra_build_options_.empty()) options += ' ' + extra_build_options_;
+    }
     return programs.kernel(context, device, source_file, source, options, kernel_name);
+}
+
+void ContextImpl::set_extra_build_options(const std::string& options) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    extra_build_options_ = options;
 }
 
 cl::CommandQueue ContextImpl::queue_for(const Enqueue& enqueue) const {
@@ -25,12 +33,24 @@ cl::CommandQueue ContextImpl::queue_for(const Enqueue& enqueue) const {
 }
 
 cl::Buffer ContextImpl::scratch(const std::string& purpose, std::size_t bytes, std::vector<cl::Event>& waits) {
+    std::unique_lock<std::mutex> lock(mutex_);
     Scratch& held = scratch_[purpose];
+    // Wait while another thread is between its scratch and scratch_used of this purpose.
+    // (A hold of this very thread is left over from a call that threw: take it over.)
+    const std::thread::id self = std::this_thread::get_id();
+    scratch_released_.wait(lock, [&] { return !held.held || held.holder == self; });
+    held.held = true;
+    held.holder = self;
     if (held.bytes < bytes) {
         // The old buffer lives on until its last user is done (OpenCL reference counts).
         cl_int status = CL_SUCCESS;
-        held.buffer = cl::Buffer(context, CL_MEM_READ_WRITE, bytes, nullptr, &status);
-        check(status, ("clCreateBuffer(" + purpose + ")").c_str());
+        cl::Buffer grown(context, CL_MEM_READ_WRITE, bytes, nullptr, &status);
+        if (status != CL_SUCCESS) {
+            held.held = false;
+            scratch_released_.notify_all();
+            check(status, ("clCreateBuffer(" + purpose + ")").c_str());
+        }
+        held.buffer = grown;
         held.bytes = bytes;
         held.last_use = cl::Event();
         return held.buffer;
@@ -39,7 +59,29 @@ cl::Buffer ContextImpl::scratch(const std::string& purpose, std::size_t bytes, s
     return held.buffer;
 }
 
-void ContextImpl::scratch_used(const std::string& purpose, const cl::Event& last) { scratch_[purpose].last_use = last; }
+void ContextImpl::scratch_used(const std::string& purpose, const cl::Event& last) {
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        Scratch& held = scratch_[purpose];
+        held.last_use = last;
+        held.held = false;
+    }
+    scratch_released_.notify_all();
+}
+
+void ContextImpl::release_abandoned_scratch() {
+    bool released = false;
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        const std::thread::id self = std::this_thread::get_id();
+        for (auto& [purpose, held] : scratch_)
+            if (held.held && held.holder == self) {
+                held = Scratch();
+                released = true;
+            }
+    }
+    if (released) scratch_released_.notify_all();
+}
 
 std::vector<cl::Event> wait_list(const Enqueue& enqueue) {
     std::vector<cl::Event> events;
@@ -79,7 +121,8 @@ std::unique_ptr<detail::ContextImpl> make_impl(const cl::Device& device, const D
 }
 
 void apply_environment(detail::ContextImpl& impl) {
-    if (const char* dir = std::getenv("MSMCL_CACHE_DIR")) impl.programs.set_disk_directory(dir);
+    if (const char* dir = std::getenv("MSMCL_CACHE_DIR"); dir && *dir)
+        impl.programs.set_disk_directory(dir, "MSMCL_CACHE_DIR");
 }
 
 } // namespace
@@ -121,7 +164,7 @@ cl_device_id Context::cl_device_handle() const { return impl_->device(); }
 cl_command_queue Context::cl_queue_handle() const { return impl_->queue(); }
 void Context::finish() { detail::check(impl_->queue.finish(), "clFinish"); }
 void Context::set_binary_cache_dir(const std::string& directory) { impl_->programs.set_disk_directory(directory); }
-void Context::set_extra_build_options(const std::string& options) { impl_->extra_build_options = options; }
+void Context::set_extra_build_options(const std::string& options) { impl_->set_extra_build_options(options); }
 std::size_t Context::programs_built() const { return impl_->programs.programs_built(); }
 
 } // namespace msmcl

@@ -1,9 +1,12 @@
 // Looks up embedded kernel files and resolves their #include lines.
 #include "runtime/kernel_sources.hpp"
+#include "runtime/program_cache.hpp"
 
 #include <msmcl/errors.hpp>
 
 #include <cstddef>
+#include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -65,18 +68,27 @@ std::string assemble_kernel_source(std::string_view name) {
     return source;
 }
 
-std::string assemble_variant_source(std::string_view name, const std::vector<std::string>& defines) {
-    std::string source;
+const KernelSource& kernel_source(std::string_view name, const std::vector<std::string>& defines) {
+    // Assembled sources of the process, by file and defines; entries are never removed.
+    static std::mutex mutex;
+    static std::map<std::pair<std::string, std::vector<std::string>>, KernelSource> assembled;
+    std::pair<std::string, std::vector<std::string>> key{std::string(name), defines};
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto found = assembled.find(key);
+    if (found != assembled.end()) return found->second;
+    // Each define becomes a `#define NAME VALUE` line in front of the embedded source.
+    KernelSource source;
     for (const std::string& define : defines) {
         const std::size_t equals = define.find('=');
-        source += "#define " +
-                  (equals == std::string::npos ? define
-                                               : define.substr(0, equals) + ' ' + define.substr(equals + 1)) +
-                  '\n';
+        source.text += "#define " +
+                       (equals == std::string::npos ? define
+                                                    : define.substr(0, equals) + ' ' + define.substr(equals + 1)) +
+                       '\n';
     }
-    source += "#line 1\n";
-    source += assemble_kernel_source(name);
-    return source;
+    source.text += "#line 1\n";
+    source.text += assemble_kernel_source(name);
+    source.hash = fnv1a64(source.text);
+    return assembled.emplace(std::move(key), std::move(source)).first->second;
 }
 
 } // namespace msmcl::detail

@@ -1,6 +1,7 @@
 // Access to the kernels/ files embedded at build time.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,9 +18,17 @@ std::vector<std::string> embedded_kernel_names();
 /// (recursively, each file once), ready for clCreateProgramWithSource.
 std::string assemble_kernel_source(std::string_view name);
 
-/// The program text the host builds for `name` with `defines` ("MSM_FORMAT=2"; each becomes
-/// a `#define NAME VALUE` line in front of the assembled source, then `#line 1`).
-std::string assemble_variant_source(std::string_view name, const std::vector<std::string>& defines);
+/// A program's whole source and its 64-bit FNV-1a hash (the program cache's key).
+struct KernelSource {
+    std::string text;
+    std::uint64_t hash = 0;
+};
+
+/// The embedded program `name` with `defines` ("MSM_FORMAT=2" or "NAME") as `#define`
+/// lines in front, assembled and hashed once per (name, defines) for the whole process
+/// and kept (embedded files never change), so launches do not redo either. Thread-safe;
+/// the reference stays valid until the process ends.
+const KernelSource& kernel_source(std::string_view name, const std::vector<std::string>& defines);
 
 /// Build options of every program, before a device's own (quirks.hpp) and the caller's.
 inline constexpr const char* base_build_options = "-cl-std=CL1.2";

@@ -1,10 +1,17 @@
 // Program and kernel caching; binaries on disk when a cache directory is set.
 #include "runtime/program_cache.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <sys/resource.h>
+#include <unistd.h>
 #include <vector>
 
 namespace msmcl::detail {
@@ -34,22 +41,59 @@ std::string build_log(const cl::Program& program, const cl::Device& device) {
     return log;
 }
 
-// Loads a cached binary; empty when absent or unreadable.
+/// A failed build whose log names no error in the source failed in the driver itself;
+/// drivers that compile through files (PoCL) fail so when they cannot write them. Says
+/// so, and names the file size limit when one is set.
+std::string explain_silent_build_failure(const std::string& log) {
+    std::string lower = log;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (lower.find("error") != std::string::npos) return log;
+    std::string note = "the log reports no error in the source: the driver itself failed, e.g. it could not write "
+                       "its compiled files (disk full, no permission on its cache directory";
+    rlimit limit{};
+    if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+        note += ", or the file size limit of " + std::to_string(static_cast<unsigned long long>(limit.rlim_cur)) +
+                " bytes set by ulimit -f";
+    note += ")";
+    return log.empty() ? note : log + "\n" + note;
+}
+
+// Disk cache files: a header that lets a damaged or foreign file be told from a binary
+// before the driver sees it, then the binary.
+constexpr char kMagic[8] = {'M', 'S', 'M', 'C', 'L', 'B', 'I', 'N'};
+constexpr std::size_t kHeaderBytes = sizeof kMagic + 16; // magic, byte count, FNV-1a of the bytes
+
+// A cached binary; empty when absent, unreadable, truncated or damaged.
 std::vector<unsigned char> read_binary(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return {};
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const std::string content{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (content.size() < kHeaderBytes || content.compare(0, sizeof kMagic, kMagic, sizeof kMagic) != 0) return {};
+    std::uint64_t size = 0, hash = 0;
+    std::memcpy(&size, content.data() + sizeof kMagic, 8);
+    std::memcpy(&hash, content.data() + sizeof kMagic + 8, 8);
+    const std::string bytes = content.substr(kHeaderBytes);
+    if (bytes.size() != size || bytes.empty() || fnv1a64(bytes) != hash) return {};
+    return {bytes.begin(), bytes.end()};
 }
 
-// Stores a binary atomically (temp file + rename); a failure only loses the cache entry.
+// Stores a binary atomically (a unique temporary file, then rename); a failure only
+// loses the cache entry.
 void write_binary(const std::string& path, const std::vector<unsigned char>& binary) {
-    const std::string temporary = path + ".tmp";
+    static std::atomic<unsigned> counter{0};
+    const std::string temporary =
+        path + "." + std::to_string(static_cast<long>(::getpid())) + "." + std::to_string(counter++) + ".tmp";
+    const std::string bytes(binary.begin(), binary.end());
+    const std::uint64_t size = bytes.size(), hash = fnv1a64(bytes);
     {
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
         if (!out) return;
-        out.write(reinterpret_cast<const char*>(binary.data()), static_cast<std::streamsize>(binary.size()));
+        out.write(kMagic, sizeof kMagic);
+        out.write(reinterpret_cast<const char*>(&size), 8);
+        out.write(reinterpret_cast<const char*>(&hash), 8);
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        out.close();
         if (!out) {
-            out.close();
             std::remove(temporary.c_str());
             return;
         }
@@ -59,8 +103,8 @@ void write_binary(const std::string& path, const std::vector<unsigned char>& bin
 
 } // namespace
 
-std::string ProgramCache::disk_path(const cl::Device& device, const std::string& source,
-                                    const std::string& options) const {
+std::string ProgramCache::disk_path(const std::string& directory, const cl::Device& device, const std::string& source,
+                                    const std::string& options) {
     // The binary depends on the device, its driver and the platform, besides the inputs.
     cl::Platform platform(device.getInfo<CL_DEVICE_PLATFORM>());
     std::string platform_version;
@@ -70,17 +114,38 @@ std::string ProgramCache::disk_path(const cl::Device& device, const std::string&
                                  device_string(device, CL_DRIVER_VERSION) + '\n' + platform_version +
                                  '\n' + options + '\n';
     std::ostringstream name;
-    name << disk_directory_ << "/msmcl-" << std::hex << fnv1a64(source, fnv1a64(identity)) << ".bin";
+    name << directory << "/msmcl-" << std::hex << fnv1a64(source, fnv1a64(identity)) << ".bin";
     return name.str();
 }
 
-cl::Program ProgramCache::build(const cl::Context& context, const cl::Device& device,
-                                const std::string& label, const std::string& source,
-                                const std::string& options) {
+void ProgramCache::set_disk_directory(const std::string& directory, const std::string& what) {
+    if (!directory.empty()) {
+        // Create it when missing; refuse one msmcl could not store binaries in.
+        std::error_code failure;
+        std::filesystem::create_directories(directory, failure);
+        const auto refuse = [&](const std::string& problem) {
+            throw input_error(what + " '" + directory + "': " + problem);
+        };
+        if (failure) refuse("cannot create it: " + failure.message());
+        if (!std::filesystem::is_directory(directory, failure)) refuse("not a directory");
+        if (::access(directory.c_str(), W_OK | X_OK) != 0) refuse(std::string("cannot write into it: ") + std::strerror(errno));
+    }
+    const std::lock_guard<std::mutex> lock(mutex_);
+    disk_directory_ = directory;
+}
+
+std::string ProgramCache::disk_directory() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return disk_directory_;
+}
+
+cl::Program ProgramCache::build(const cl::Context& context, const cl::Device& device, const std::string& label,
+                                const std::string& source, const std::string& options,
+                                const std::string& disk_directory) {
     const std::vector<cl::Device> devices{device};
     cl_int status = CL_SUCCESS;
     // A binary from the disk cache, if one was stored for this very device and driver.
-    const std::string path = disk_directory_.empty() ? std::string() : disk_path(device, source, options);
+    const std::string path = disk_directory.empty() ? std::string() : disk_path(disk_directory, device, source, options);
     if (!path.empty()) {
         std::vector<unsigned char> binary = read_binary(path);
         if (!binary.empty()) {
@@ -97,7 +162,7 @@ cl::Program ProgramCache::build(const cl::Context& context, const cl::Device& de
     if (status != CL_SUCCESS) {
         if (status == CL_BUILD_PROGRAM_FAILURE || status == CL_INVALID_BUILD_OPTIONS ||
             status == CL_COMPILE_PROGRAM_FAILURE)
-            throw build_error(status, label, options, build_log(program, device));
+            throw build_error(status, label, options, explain_silent_build_failure(build_log(program, device)));
         throw opencl_error(status, "clBuildProgram", label);
     }
     ++programs_built_;
@@ -110,28 +175,53 @@ cl::Program ProgramCache::build(const cl::Context& context, const cl::Device& de
     return program;
 }
 
-const cl::Program& ProgramCache::program(const cl::Context& context, const cl::Device& device,
-                                         const std::string& label, const std::string& source,
-                                         const std::string& options) {
-    Key key{context(), device(), options, fnv1a64(source)};
-    auto found = programs_.find(key);
-    if (found == programs_.end())
-        found = programs_.emplace(key, build(context, device, label, source, options)).first;
-    return found->second;
+cl::Program ProgramCache::program(const cl::Context& context, const cl::Device& device, const std::string& label,
+                                  const KernelSource& source, const std::string& options) {
+    // Find or add the entry under the cache's lock, build it under its own.
+    Entry* entry = nullptr;
+    std::string disk_directory;
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        std::unique_ptr<Entry>& slot = programs_[Key{context(), device(), options, source.hash}];
+        if (!slot) slot = std::make_unique<Entry>();
+        entry = slot.get();
+        disk_directory = disk_directory_;
+    }
+    const std::lock_guard<std::mutex> building(entry->build);
+    if (!entry->built) {
+        entry->program = build(context, device, label, source.text, options, disk_directory);
+        entry->built = true;
+    }
+    return entry->program;
 }
 
-cl::Kernel& ProgramCache::kernel(const cl::Context& context, const cl::Device& device,
-                                 const std::string& label, const std::string& source,
-                                 const std::string& options, const std::string& kernel_name) {
-    Key key{context(), device(), options, fnv1a64(source)};
-    auto id = std::make_tuple(key, kernel_name);
-    auto found = kernels_.find(id);
-    if (found != kernels_.end()) return found->second;
-    const cl::Program& built = program(context, device, label, source, options);
+cl::Program ProgramCache::program(const cl::Context& context, const cl::Device& device, const std::string& label,
+                                  const std::string& source, const std::string& options) {
+    return program(context, device, label, KernelSource{source, fnv1a64(source)}, options);
+}
+
+cl::Kernel& ProgramCache::kernel(const cl::Context& context, const cl::Device& device, const std::string& label,
+                                 const KernelSource& source, const std::string& options,
+                                 const std::string& kernel_name) {
+    auto id = std::make_tuple(Key{context(), device(), options, source.hash}, kernel_name, std::this_thread::get_id());
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        auto found = kernels_.find(id);
+        if (found != kernels_.end()) return found->second;
+    }
+    // This thread's first use: a kernel object of its own from the shared program.
+    const cl::Program built = program(context, device, label, source, options);
     cl_int status = CL_SUCCESS;
     cl::Kernel kernel(built, kernel_name.c_str(), &status);
     check(status, ("clCreateKernel(" + kernel_name + ")").c_str());
-    return kernels_.emplace(id, std::move(kernel)).first->second;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return kernels_.emplace(std::move(id), std::move(kernel)).first->second;
+}
+
+cl::Kernel& ProgramCache::kernel(const cl::Context& context, const cl::Device& device, const std::string& label,
+                                 const std::string& source, const std::string& options,
+                                 const std::string& kernel_name) {
+    return kernel(context, device, label, KernelSource{source, fnv1a64(source)}, options, kernel_name);
 }
 
 } // namespace msmcl::detail

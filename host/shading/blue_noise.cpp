@@ -1,8 +1,8 @@
-// The blue-noise textures of the dithered lookup (include/msmcl/shade.hpp): the table
+// The blue-noise textures of the dithered lookup (include/msmcl/device_math.hpp): the table
 // cmake/blue_noise.cmake generates at build time (blue_noise_table.inc in the build's
 // generated/ folder), compiled in. A build configured without that step generates the same
 // bytes from the same seed on first use instead (void-and-cluster, a few seconds).
-#include <msmcl/shade.hpp>
+#include <msmcl/device_math.hpp>
 
 #if __has_include("blue_noise_table.inc")
 #include "blue_noise_table.inc"

@@ -1,7 +1,7 @@
-// include/msmcl/shading.hpp: the consumer-side math of kernels/msm_shading.clh compiled as
+// include/msmcl/device_math.hpp: the consumer-side math of kernels/msm_shading.clh compiled as
 // C++ (float32, the very code the kernels run), and the host definition of the `shade`
-// lookup of SPEC section 8.
-#include <msmcl/shading.hpp>
+// lookup of docs/math.md, Lookups.
+#include <msmcl/device_math.hpp>
 
 #include "kernels/msm_shading.clh"
 

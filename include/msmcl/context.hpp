@@ -81,7 +81,19 @@ namespace detail { struct ContextImpl; }
 /// Owns (or borrows) an OpenCL context, one device, an in-order queue, and the cache of
 /// built programs and kernels. Also keeps the scratch buffers of the table builds between
 /// calls (the largest asked for: about 1/32 of a table on CPUs, 1/16 on GPUs), released
-/// with the Context. Not thread-safe: use one Context per thread.
+/// with the Context.
+///
+/// Thread safety: any number of threads may call msmcl's operations (filter, shade,
+/// build_sat, soft_shade, scatter, ... and the C API) on one Context at once, and each
+/// call gives exactly the bytes it gives alone. The program cache is locked and builds
+/// each program once; every thread gets kernel objects of its own (kept until the Context
+/// is destroyed); a scratch buffer is handed to one call at a time, ordered by events.
+/// Calls on the Context's own queue are enqueued in whatever order the threads reach it;
+/// a thread that needs its work ordered against another thread's passes events
+/// (Enqueue::wait_for / done) or its own queue. set_binary_cache_dir and
+/// set_extra_build_options may be called at any time and apply to programs built
+/// afterwards. Not thread-safe: moving, assigning or destroying a Context while another
+/// thread uses it.
 class Context {
 public:
     /// Picks a device as DeviceSelection describes and creates context and queue.
@@ -104,7 +116,9 @@ public:
 
     /// Optional on-disk cache of program binaries (keyed by device, driver version,
     /// options and source hash). Empty path disables it (the default unless
-    /// MSMCL_CACHE_DIR is set).
+    /// MSMCL_CACHE_DIR is set). The directory is created when missing; one that cannot
+    /// be created or written into throws input_error (so does an unusable
+    /// MSMCL_CACHE_DIR, from the constructor). A damaged cache file is rebuilt.
     void set_binary_cache_dir(const std::string& directory);
 
     /// Extra OpenCL build options appended for every program (e.g. "-cl-fast-relaxed-math").

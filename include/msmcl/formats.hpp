@@ -10,7 +10,7 @@
 
 namespace msmcl {
 
-/// Storage formats of a filtered moment shadow map (SPEC section 3).
+/// Storage formats of a filtered moment shadow map (docs/math.md).
 enum class Format {
     moments128, ///< 4 x float32: b1..b4 of z in [-1,1]
     msm64,      ///< 4 x unorm16 of the optimized affine basis (R,G,B,A)

@@ -14,9 +14,7 @@
 
 #include <msmcl/context.hpp>
 #include <msmcl/enqueue.hpp>
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/sat.hpp>
+#include <msmcl/types.hpp>
 
 #include <CL/cl.h>
 

@@ -201,7 +201,7 @@ MSMCL_C_API msmcl_status msmcl_filter_device(msmcl_context* context, const msmcl
                                              cl_mem texture, const msmcl_filter_options* options,
                                              const msmcl_enqueue* enqueue);
 
-/* ---- Translucent occluders (SPEC section 7; include/msmcl/filter.hpp, TranslucentLayer) */
+/* ---- Translucent occluders (docs/math.md; include/msmcl/filter.hpp, TranslucentLayer) */
 
 /* Most translucent layers one call composites. */
 #define MSMCL_MAX_TRANSLUCENT_LAYERS 8

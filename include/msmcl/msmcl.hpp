@@ -2,6 +2,7 @@
 #pragma once
 
 #include <msmcl/context.hpp>
+#include <msmcl/device_math.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
 #include <msmcl/formats.hpp>
@@ -9,5 +10,5 @@
 #include <msmcl/sat.hpp>
 #include <msmcl/scatter.hpp>
 #include <msmcl/shade.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/types.hpp>
 #include <msmcl/version.hpp>

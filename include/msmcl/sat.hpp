@@ -1,9 +1,9 @@
-// sat: integer modular summed-area tables of moments (SPEC section 5) and moment soft
-// shadow mapping for a directional light (seed 001 section 3).
+// sat: integer modular summed-area tables of moments (docs/math.md) and moment soft
+// shadow mapping for a directional light (Peters et al., i3D 2016, section 3).
 //
 // A table holds, per texel (x, y), four uint32 channels: the prefix sums over all texels
 // i <= x, j <= y of round(c * scale), where c are the channels R, G, B, A of the msm64
-// affine basis (SPEC section 3) of the texel's resolved moments (mean of b(z) over its
+// affine basis (docs/math.md) of the texel's resolved moments (mean of b(z) over its
 // MSAA samples, no blur) and scale = floor((2^32 - 1) / N) for the largest kernel of N
 // texels the caller will query. The sums wrap mod 2^32; any rectangle of at most N texels
 // comes out exact. Precision: log2(scale) bits per channel (N = 27^2: 22.5 bits).
@@ -18,9 +18,7 @@
 
 #include <msmcl/context.hpp>
 #include <msmcl/enqueue.hpp>
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/shading.hpp>
+#include <msmcl/types.hpp>
 
 #include <array>
 #include <cstdint>
@@ -37,41 +35,6 @@ inline constexpr std::uint32_t sat_max_kernel_texels = 0x7fffffffu;
 /// [sat_min_kernel_texels, sat_max_kernel_texels].
 std::uint32_t sat_scale(std::uint32_t max_kernel_texels);
 
-/// Which kernels build the table. All give the same bits. The tiled scans read the input
-/// twice (totals, then the scan) and write the table once; the carries in between are
-/// prefix sums over 1/16 to 1/32 of the texels.
-enum class SatKernel {
-    automatic,      ///< tiled_gpu on GPUs, tiled_cpu elsewhere
-    tiled_gpu,      ///< 32x32 tiles, 32 work-items each, through 4 KiB of local memory one strip of
-                    ///< 8 rows at a time: work-items walk the strip's columns, then one row and
-                    ///< channel each (one add per texel and direction, conflict-free rotated rows)
-    tiled_cpu,      ///< bands of 32 full rows, one work-item each, 16 columns at a time in 16-lane
-                    ///< vectors: column walks, then four shuffle-and-add steps across the lanes
-                    ///< (what PoCL's CPU device runs well)
-    row_per_thread, ///< the papers' baseline: one work-item per row, then one per column
-};
-
-struct SatOptions {
-    /// N: texels of the largest rectangle that will ever be queried (27 x 27 = 729 by default).
-    std::uint32_t max_kernel_texels = 27 * 27;
-    DepthRange depth_range = DepthRange::zero_one;
-    SatKernel kernel = SatKernel::automatic;
-};
-
-/// A table in host memory.
-struct SatTable {
-    int width = 0;
-    int height = 0;
-    std::uint32_t max_kernel_texels = 0; ///< N
-    std::uint32_t scale = 0;             ///< sat_scale(N)
-    /// 4 words per texel (channels R, G, B, A), row-major, rows top to bottom.
-    std::vector<std::uint32_t> words;
-
-    const std::uint32_t* texel(int x, int y) const {
-        return words.data() + 4 * (static_cast<std::size_t>(y) * width + x);
-    }
-};
-
 /// Builds the table of a host depth map. Validates like filter(): size, sample count (1, 2,
 /// 4, 8, 16), every depth finite and inside the range (input_error names the first bad
 /// texel), and N.
@@ -83,7 +46,7 @@ SatTable build_sat(Context& context, const DepthImage& depth, const SatOptions& 
 void build_sat(Context& context, const DeviceDepth& depth, cl_mem table, const SatOptions& options,
                const Enqueue& enqueue = {});
 
-/// Tables of translucent shadow maps (SPEC section 7): each sample's surfaces composited as
+/// Tables of translucent shadow maps (docs/math.md): each sample's surfaces composited as
 /// filter() composites them (TranslucentLayer), the texel the mean of the composited
 /// moments over its samples. Validates the layers like filter(). No layers: exactly
 /// build_sat(context, depth, options); layers of opacity 0 give the same bits as none.
@@ -124,14 +87,6 @@ struct SatRectangle {
 /// Throws input_error when the rectangle is empty, not finite, leaves [0, width] x
 /// [0, height], or one of its 3x3 sub-rectangles holds more than N texels.
 Moments4 sat_interpolated_moments(const SatTable& table, const SatRectangle& rectangle);
-
-/// A table already on the device: a buffer with 4 uint32 per texel, layout as SatTable.
-struct DeviceSat {
-    cl_mem buffer = nullptr;
-    int width = 0;
-    int height = 0;
-    std::uint32_t max_kernel_texels = 0; ///< N the table was built for
-};
 
 /// Device queries: `rectangles` holds 4 floats per query (left, top, right, bottom);
 /// `moments` receives 4 floats per query (b1..b4, as sat_interpolated_moments). A

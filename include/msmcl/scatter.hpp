@@ -1,5 +1,5 @@
-// scatter: prefiltered single scattering with moment shadow maps (SPEC section 6; seed 001
-// section 2 after Klehm et al. 2014; seed 000, "Prefiltered single scattering").
+// scatter: prefiltered single scattering with moment shadow maps (docs/math.md; Peters et al., i3D 2016
+// section 2 after Klehm et al. 2014; Peters, GDC Europe 2016, "Prefiltered single scattering").
 //
 // A directional light with an orthographic shadow map lights a homogeneous medium. The
 // shadow map is resampled into rectified coordinates around the camera (u = r, the distance
@@ -16,9 +16,7 @@
 
 #include <msmcl/context.hpp>
 #include <msmcl/enqueue.hpp>
-#include <msmcl/filter.hpp>
-#include <msmcl/formats.hpp>
-#include <msmcl/shade.hpp>
+#include <msmcl/types.hpp>
 
 #include <array>
 #include <cstdint>
@@ -82,16 +80,11 @@ struct ScatterScene {
     double guard_band = 0.05;   ///< extra share of the inclination range on each side, in [0, 1]
 };
 
-/// Parses a scene from JSON text (nlohmann-json). Throws input_error naming the key, with
-/// line and column for malformed JSON; validates like validate_scatter_scene.
-ScatterScene parse_scatter_scene(const std::string& json_text);
-/// Reads and parses a scene file; errors read "<path>: <problem>".
-ScatterScene load_scatter_scene(const std::string& path);
 /// Throws input_error for anything unusable: zero, negative or non-finite extinction,
 /// degenerate axes, fov outside (0, 180), near/far, sizes, g outside (-1, 1).
 void validate_scatter_scene(const ScatterScene& scene);
 
-/// Rectification bounds that cover the camera's view frustum (SPEC section 6).
+/// Rectification bounds that cover the camera's view frustum (docs/math.md).
 struct RectificationBounds {
     double r_max = 0;         ///< largest light-ray distance of the frustum (a far corner)
     double phi_min = 0;       ///< azimuth range [phi_min, phi_min + phi_range], radians
@@ -114,14 +107,14 @@ struct ScatterOptions {
     /// (msmcl::filter); 0 = bilinear interpolation of the resolved moments only.
     float filter_sigma = 1.0f;
     /// shadow = beta * upper + (1 - beta) * lower bound; negative: adaptive
-    /// beta = (1 + dot(towards light, view direction)) / 2 (seed 000).
+    /// beta = (1 + dot(towards light, view direction)) / 2 (Peters, GDC Europe 2016).
     float beta = -1.0f;
 };
 
 /// A prefiltered map: rectified_width x rectified_height texels, 64 bits each.
-///  - 4 moments: 2 words per texel, the msm64 layout (SPEC section 3 affine basis, unorm16);
+///  - 4 moments: 2 words per texel, the msm64 layout (docs/formats.md affine basis, unorm16);
 ///  - 6 moments: plane 0 (width * height words: R | G << 10 | B << 20 of the odd powers),
-///    then plane 1 (the even powers), SPEC section 6 transform.
+///    then plane 1 (the even powers), docs/math.md transform.
 struct ScatterMap {
     int moments = 6;
     int width = 0;

@@ -1,12 +1,12 @@
-// Scene files of `msmcl scatter` (format: data/scatter/README.md), parsed with nlohmann-json,
-// and the validation of a ScatterScene.
+// Scene files of `msmcl scatter` (format: data/scatter/README.md), parsed with nlohmann-json
+// (the validation of a ScatterScene is the library's: validate_scatter_scene).
+#include "io/scene_json.hpp"
+
 #include <msmcl/errors.hpp>
-#include <msmcl/scatter.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
@@ -18,7 +18,16 @@ namespace {
 
 using nlohmann::json;
 
+/// Deepest nesting of arrays and objects a scene file may have (the format needs 3).
+constexpr int max_json_depth = 64;
+/// Largest scene file read (a scene is a few hundred bytes).
+constexpr std::streamoff max_scene_bytes = 16 << 20;
+
+/// A value for an error message: scalars as written, containers by kind and size only
+/// (printing a container would recurse through all of it).
 std::string describe(const json& value) {
+    if (value.is_object()) return "an object of " + std::to_string(value.size()) + " keys";
+    if (value.is_array()) return "an array of " + std::to_string(value.size()) + " elements";
     std::string text = value.dump();
     if (text.size() > 60) text = text.substr(0, 57) + "...";
     return text;
@@ -90,13 +99,6 @@ std::string string_member(const json& object, const std::string& where, const ch
     const json& value = object.at(key);
     if (!value.is_string()) throw input_error(where + "." + key + ": expected a string, got " + describe(value));
     return value.get<std::string>();
-}
-
-/// A number as %g prints it ("0", "0.12", "1e+30").
-std::string number_text(double x) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", x);
-    return text;
 }
 
 double length(const Vector3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
@@ -182,8 +184,15 @@ std::string parse_error_text(const std::string& what) {
 ScatterScene parse_scatter_scene(const std::string& json_text) {
     json document;
     try {
-        document = json::parse(json_text);
-    } catch (const json::parse_error& e) {
+        // Refuse deep nesting while parsing, before it costs memory or recursion later.
+        const json::parser_callback_t limit_depth = [](int depth, json::parse_event_t event, json&) {
+            if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+                depth >= max_json_depth)
+                throw input_error("malformed JSON: nested deeper than " + std::to_string(max_json_depth) + " levels");
+            return true;
+        };
+        document = json::parse(json_text, limit_depth);
+    } catch (const json::exception& e) { // syntax errors, and numbers out of range (1e400)
         throw input_error("malformed JSON: " + parse_error_text(e.what()));
     }
     if (!document.is_object()) throw input_error("scene: expected a JSON object at the top level");
@@ -210,6 +219,12 @@ ScatterScene parse_scatter_scene(const std::string& json_text) {
 ScatterScene load_scatter_scene(const std::string& path) {
     std::ifstream file(path, std::ios::binary);
     if (!file) throw input_error(path + ": cannot open the scene file");
+    // A scene is a few hundred bytes; refuse anything absurdly large before reading it.
+    file.seekg(0, std::ios::end);
+    const std::streamoff size = file.tellg();
+    if (size > max_scene_bytes)
+        throw input_error(path + ": the scene file is larger than " + std::to_string(max_scene_bytes) + " bytes");
+    file.seekg(0);
     std::ostringstream text;
     text << file.rdbuf();
     if (file.bad()) throw input_error(path + ": cannot read the scene file");
@@ -217,58 +232,9 @@ ScatterScene load_scatter_scene(const std::string& path) {
         return parse_scatter_scene(text.str());
     } catch (const input_error& e) {
         throw input_error(path + ": " + e.what());
+    } catch (const json::exception& e) { // any JSON error the parsing above did not translate
+        throw input_error(path + ": " + parse_error_text(e.what()));
     }
-}
-
-void validate_scatter_scene(const ScatterScene& scene) {
-    const auto require = [](bool ok, const std::string& problem) {
-        if (!ok) throw input_error(problem);
-    };
-    const auto finite3 = [](const Vector3& v) {
-        return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-    };
-    const ScatterLight& light = scene.light;
-    require(finite3(light.direction) && length(light.direction) > 0, "light.direction: must be a non-zero finite vector");
-    require(finite3(light.up) && length(light.up) > 0, "light.up: must be a non-zero finite vector");
-    require(sine_between(light.direction, light.up) > 1e-6, "light.up: parallel to light.direction");
-    require(finite3(light.center), "light.center: not finite");
-    require(std::isfinite(light.width) && light.width > 0 && std::isfinite(light.height) && light.height > 0,
-            "light.width/height: the map's extent must be positive");
-    require(std::isfinite(light.near) && std::isfinite(light.far) && light.far > light.near,
-            "light.near/far: need near < far (got " + number_text(light.near) + ", " + number_text(light.far) + ")");
-
-    const ScatterCamera& camera = scene.camera;
-    require(finite3(camera.position), "camera.position: not finite");
-    require(finite3(camera.forward) && length(camera.forward) > 0, "camera.forward: must be a non-zero finite vector");
-    require(finite3(camera.up) && length(camera.up) > 0, "camera.up: must be a non-zero finite vector");
-    require(sine_between(camera.forward, camera.up) > 1e-6, "camera.up: parallel to the viewing direction");
-    require(std::isfinite(camera.vertical_fov_degrees) && camera.vertical_fov_degrees > 0 &&
-                camera.vertical_fov_degrees < 170,
-            "camera.fov_y_degrees: must be in (0, 170), got " + number_text(camera.vertical_fov_degrees));
-    require(std::isfinite(camera.near) && camera.near > 0 && std::isfinite(camera.far) && camera.far > camera.near,
-            "camera.near/far: need 0 < near < far (got " + number_text(camera.near) + ", " +
-                number_text(camera.far) + ")");
-    require(camera.width >= 1 && camera.height >= 1 && camera.width <= 65536 && camera.height <= 65536,
-            "camera.width/height: must be in [1, 65536]");
-    // Wide views: the horizontal half-angle must stay below 90 degrees too.
-    const double half = 0.5 * camera.vertical_fov_degrees * 3.14159265358979323846 / 180.0;
-    require(std::tan(half) * camera.width / camera.height < 1e3, "camera: the horizontal field of view is too wide");
-
-    const ScatterMedium& medium = scene.medium;
-    require(std::isfinite(medium.extinction) && medium.extinction > 0,
-            "medium.extinction: must be > 0 (got " + number_text(medium.extinction) +
-                "); prefiltered single scattering weighs by the transmittance exp(-extinction t) and divides by "
-                "the extinction");
-    require(std::isfinite(medium.phase_g) && medium.phase_g > -1 && medium.phase_g < 1,
-            "medium.phase_g: must be in (-1, 1), got " + number_text(medium.phase_g));
-    require(std::isfinite(medium.irradiance) && medium.irradiance >= 0,
-            "medium.irradiance: must be finite and >= 0");
-
-    require(scene.rectified_width >= 1 && scene.rectified_height >= 1 && scene.rectified_width <= 65536 &&
-                scene.rectified_height <= 65536,
-            "rectified.width/height: must be in [1, 65536]");
-    require(std::isfinite(scene.guard_band) && scene.guard_band >= 0 && scene.guard_band <= 1,
-            "rectified.guard_band: must be in [0, 1]");
 }
 
 } // namespace msmcl

@@ -1,23 +1,15 @@
-// Host versions of the consumer-side shading math in kernels/msm_shading.clh (the very
-// same source compiled as C++, float32), for tools and tests that need the device's
+// Host copies of the device math: the consumer-side shading of kernels/msm_shading.clh,
+// the blue noise of kernels/msm_bluenoise.clh and the moment math of msm_moments.clh (the
+// very same sources compiled as C++, float32), for tools and tests that need the device's
 // results without a device.
 #pragma once
 
-#include <msmcl/formats.hpp>
-#include <msmcl/shade.hpp>
+#include <msmcl/types.hpp>
 
+#include <cstddef>
 #include <cstdint>
 
 namespace msmcl {
-
-/// Power moments b1..b4 of z in [-1,1] (b0 = 1 implied).
-struct Moments4 {
-    float b1 = 0, b2 = 0, b3 = 0, b4 = 0;
-};
-/// Output of Algorithm 2: two depths y1 <= y2 in [-1,1], weight v2 of y2, offset xi4.
-struct NlqTexel {
-    float y1 = 0, y2 = 0, v2 = 0, xi4 = 0;
-};
 
 /// b' = (1 - alpha) b + alpha (0, bstar, 0, bstar).
 Moments4 bias_moments(const Moments4& b, float alpha, float bstar);
@@ -54,6 +46,14 @@ float shade_receiver(const Texture& map, float u, float v, float z, const ShadeO
 /// The same for a receiver at screen pixel (px, py) (what dither indexes the blue noise by).
 float shade_receiver(const Texture& map, float u, float v, float z, std::uint32_t px, std::uint32_t py,
                      const ShadeOptions& options);
+
+/// The blue noise of the dithered lookup: void-and-cluster (Ulichney 1993,
+/// Gaussian sigma 1.9), generated at build time from a fixed seed: 64 tileable textures of
+/// 64x64 texels, 2 channels of 8 bits, each channel a permutation of the levels 0..255 (16
+/// texels each). blue_noise_bytes() bytes, byte ((texture * 64 + y) * 64 + x) * 2 + channel;
+/// level l stands for the offset (l + 0.5) / 256. kernels/msm_bluenoise.clh indexes it.
+const std::uint8_t* blue_noise_textures() noexcept;
+std::size_t blue_noise_bytes() noexcept;
 
 /// The blue-noise texture and shift of a frame (kernels/msm_bluenoise.clh).
 struct BlueNoiseFrame {

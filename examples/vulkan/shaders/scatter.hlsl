@@ -1,0 +1,34 @@
+// The HLSL route of scatter.comp (shaders/msm.hlsl, glslang's HLSL front end).
+#include "msm.hlsl"
+
+[[vk::binding(0)]] Texture2DArray<float4> moments6; // 2 layers of A2B10G10R10_UNORM_PACK32
+
+struct Ray {
+    float u;
+    float v;
+    float zf;
+    float beta;
+    float unshadowed;
+};
+[[vk::binding(2)]] StructuredBuffer<Ray> rays;
+[[vk::binding(3)]] RWStructuredBuffer<float> radiance;
+[[vk::binding(4)]] SamplerState moments_sampler; // linear
+
+struct Params {
+    int width;
+    int height;
+    uint count;
+};
+[[vk::push_constant]] ConstantBuffer<Params> params;
+
+[numthreads(64, 1, 1)]
+void main(uint3 id : SV_DispatchThreadID) {
+    uint i = id.x;
+    if (i >= params.count) return;
+    Ray ray = rays[i];
+    float2 uv = float2(ray.u / float(params.width), ray.v / float(params.height));
+    float4 odd = moments6.SampleLevel(moments_sampler, float3(uv, 0.0f), 0);
+    float4 even = moments6.SampleLevel(moments_sampler, float3(uv, 1.0f), 0);
+    float shadow = msm_scatter_shadow6(msm_decode_moments6(odd, even), ray.zf, ray.beta);
+    radiance[i] = (1.0f - shadow) * ray.unshadowed;
+}

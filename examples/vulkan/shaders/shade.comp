@@ -1,0 +1,81 @@
+// Shading receivers from one msmcl texture, as a renderer's shader would: the functions
+// of shaders/msm.glsl on a VkImage of the texture's documented format.
+// MSM_FORMAT (set at build time): 0 moments128 (R32G32B32A32_SFLOAT), 1 msm64 and
+// 2 nlq64 (R16G16B16A16_UNORM), 3 nlq32 (R32_UINT).
+// Lookups: 0 nearest, 1 bilinear, 2 dithered (blue noise, RG8UI), all through texelFetch
+// (msm_lookup_*), and 3 hardware bilinear: one textureLod through the linear sampler
+// (moments128 and msm64 only: the README allows filtering them).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "msm.glsl"
+
+layout(local_size_x = 64) in;
+
+#if MSM_FORMAT == 3
+layout(binding = 0) uniform usampler2D shadow_map; // nearest sampler (texelFetch only)
+#else
+layout(binding = 0) uniform sampler2D shadow_map;  // linear (moments128, msm64) or nearest (nlq64)
+#endif
+layout(binding = 1) uniform usampler2D blue_noise; // 64 x 4096 RG8UI, nearest
+
+struct Receiver {
+    float u; // texel units
+    float v;
+    float z; // depth as rendered
+    uint px; // screen pixel (dithered lookup)
+    uint py;
+};
+layout(std430, binding = 2) readonly buffer Receivers { Receiver receivers[]; };
+layout(std430, binding = 3) writeonly buffer Shadow { float shadow[]; };
+
+layout(push_constant) uniform Params {
+    int width;
+    int height;
+    uint count;
+    int lookup;
+    float depth_bias;
+    uint zero_one;       // depth convention of z: 1 for [0,1]
+    uint noise_texture;  // msm_blue_noise_frame_of(frame), computed once per frame
+    uint noise_offset_x;
+    uint noise_offset_y;
+    uint accurate;       // moments128: the float-float path (msm_lookup_moments128_accurate)
+} params;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= params.count) return;
+    Receiver r = receivers[i];
+    float zf = msm_internal_depth(r.z, params.zero_one != 0u) - params.depth_bias;
+    vec2 noise = vec2(0.0f);
+    if (params.lookup == 2) {
+        msm_blue_noise_frame frame;
+        frame.texture_index = params.noise_texture;
+        frame.offset_x = params.noise_offset_x;
+        frame.offset_y = params.noise_offset_y;
+        noise = msm_blue_noise_at(blue_noise, frame, r.px, r.py);
+    }
+#if MSM_FORMAT == 0
+    if (params.lookup == 3) {
+        vec2 uv = vec2(r.u / float(params.width), r.v / float(params.height));
+        shadow[i] = msm_shadow_moments128_fast(msm_decode_moments128(textureLod(shadow_map, uv, 0.0f)), zf);
+        return;
+    }
+    if (params.accurate != 0u) {
+        shadow[i] = msm_lookup_moments128_accurate(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup,
+                                                   noise);
+        return;
+    }
+    shadow[i] = msm_lookup_moments128(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#elif MSM_FORMAT == 1
+    if (params.lookup == 3) {
+        vec2 uv = vec2(r.u / float(params.width), r.v / float(params.height));
+        shadow[i] = msm_shadow_msm64_decoded_fast(msm_decode_msm64(textureLod(shadow_map, uv, 0.0f)), zf);
+        return;
+    }
+    shadow[i] = msm_lookup_msm64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#elif MSM_FORMAT == 2
+    shadow[i] = msm_lookup_nlq64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#else
+    shadow[i] = msm_lookup_nlq32(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#endif
+}

@@ -1,0 +1,76 @@
+// The HLSL route of shade.comp: the same work through shaders/msm.hlsl, compiled by
+// glslang's HLSL front end, as a D3D engine's shader would sample the textures
+// (Texture2D + SamplerState; SampleLevel for the hardware-filtered lookup 3).
+#include "msm.hlsl"
+
+#if MSM_FORMAT == 3
+[[vk::binding(0)]] Texture2D<uint4> shadow_map;
+#else
+[[vk::binding(0)]] Texture2D<float4> shadow_map;
+#endif
+[[vk::binding(1)]] Texture2D<uint4> blue_noise;
+
+struct Receiver {
+    float u;
+    float v;
+    float z;
+    uint px;
+    uint py;
+};
+[[vk::binding(2)]] StructuredBuffer<Receiver> receivers;
+[[vk::binding(3)]] RWStructuredBuffer<float> shadow;
+[[vk::binding(4)]] SamplerState map_sampler; // linear, clamp to edge
+
+struct Params {
+    int width;
+    int height;
+    uint count;
+    int lookup;
+    float depth_bias;
+    uint zero_one;
+    uint noise_texture;
+    uint noise_offset_x;
+    uint noise_offset_y;
+    uint accurate;
+};
+[[vk::push_constant]] ConstantBuffer<Params> params;
+
+[numthreads(64, 1, 1)]
+void main(uint3 id : SV_DispatchThreadID) {
+    uint i = id.x;
+    if (i >= params.count) return;
+    Receiver r = receivers[i];
+    float zf = msm_internal_depth(r.z, params.zero_one != 0u) - params.depth_bias;
+    float2 noise = float2(0.0f, 0.0f);
+    if (params.lookup == 2) {
+        msm_blue_noise_frame frame;
+        frame.texture_index = params.noise_texture;
+        frame.offset_x = params.noise_offset_x;
+        frame.offset_y = params.noise_offset_y;
+        noise = msm_blue_noise_at(blue_noise, frame, r.px, r.py);
+    }
+#if MSM_FORMAT == 0
+    if (params.lookup == 3) {
+        float2 uv = float2(r.u / float(params.width), r.v / float(params.height));
+        shadow[i] = msm_shadow_moments128_fast(msm_decode_moments128(shadow_map.SampleLevel(map_sampler, uv, 0)), zf);
+        return;
+    }
+    if (params.accurate != 0u) {
+        shadow[i] = msm_lookup_moments128_accurate(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup,
+                                                   noise);
+        return;
+    }
+    shadow[i] = msm_lookup_moments128(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#elif MSM_FORMAT == 1
+    if (params.lookup == 3) {
+        float2 uv = float2(r.u / float(params.width), r.v / float(params.height));
+        shadow[i] = msm_shadow_msm64_decoded_fast(msm_decode_msm64(shadow_map.SampleLevel(map_sampler, uv, 0)), zf);
+        return;
+    }
+    shadow[i] = msm_lookup_msm64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#elif MSM_FORMAT == 2
+    shadow[i] = msm_lookup_nlq64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#else
+    shadow[i] = msm_lookup_nlq32(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#endif
+}

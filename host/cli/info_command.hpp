@@ -1,0 +1,32 @@
+// msmcl info FILE... [--json] [--depth-range R]: what a file holds, for every kind of file
+// msmcl reads or writes (depth maps, receivers, filtered maps, summed-area tables, results,
+// scattering scenes and maps, previews) in every container (EXR, KTX2, DDS, JSON, PNG).
+// Per file: kind, container, size, format, samples, layers, attributes, and per channel
+// (decoded quantities for textures) the value range and the counts of NaN, Inf and values
+// outside the range the kind allows. Files are read leniently (a depth map with NaNs is
+// described, not refused); only a file that cannot be parsed at all is an error (exit 2),
+// and then nothing is printed.
+#pragma once
+
+#include "cli/commands.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace msmcl::cli {
+
+struct InfoArguments {
+    std::vector<std::string> files;
+    bool json = false;
+    std::string depth_range = "0,1"; ///< convention of depth maps and receivers (they record none)
+    CLI::App* command = nullptr;
+};
+
+void add_info_command(CLI::App& app, InfoArguments& arguments);
+
+/// Prints the description of every file to stdout (text, or one JSON array with --json).
+void run_info(const InfoArguments& arguments);
+
+} // namespace msmcl::cli

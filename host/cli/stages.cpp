@@ -1,0 +1,99 @@
+#include "cli/stages.hpp"
+
+#include <msmcl/errors.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <unistd.h>
+
+namespace msmcl::cli {
+namespace {
+
+double milliseconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+} // namespace
+
+Stages::Stages(bool verbose, int planned) : verbose_(verbose), planned_(planned > 0 ? planned : 1) {
+    command_start_ = std::chrono::steady_clock::now();
+    // Progress only for a person watching a terminal; --verbose prints lines instead.
+    progress_ = !verbose_ && ::isatty(STDERR_FILENO) == 1;
+    // MSMCL_PROGRESS_AFTER_MS: how long work runs before the progress line appears (500).
+    if (const char* text = std::getenv("MSMCL_PROGRESS_AFTER_MS")) progress_after_ms_ = std::strtod(text, nullptr);
+    if (progress_) painter_ = std::thread([this] { draw_progress(); });
+}
+
+Stages::~Stages() {
+    if (!progress_) return;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stop_ = true;
+    }
+    wake_.notify_all();
+    painter_.join();
+    // Erase the progress line so that what follows starts on a clean line.
+    if (drawn_) std::fprintf(stderr, "\r\033[K");
+    std::fflush(stderr);
+}
+
+void Stages::begin(const std::string& name) {
+    note_.clear();
+    stage_start_ = std::chrono::steady_clock::now();
+    std::lock_guard<std::mutex> lock(mutex_);
+    stage_ = name;
+}
+
+void Stages::end() {
+    const double ms = milliseconds_since(stage_start_);
+    std::string name;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        name = stage_;
+        ++done_;
+    }
+    if (verbose_) {
+        std::fprintf(stderr, "msmcl: %s: %.1f ms%s\n", name.c_str(), ms, note_.empty() ? "" : (" (" + note_ + ")").c_str());
+        std::fflush(stderr);
+    }
+}
+
+void Stages::draw_progress() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_) {
+        wake_.wait_for(lock, std::chrono::milliseconds(100));
+        if (stop_) break;
+        // Long work only: nothing for commands that finish within the delay.
+        const double elapsed = milliseconds_since(command_start_);
+        if (elapsed < progress_after_ms_) continue;
+        const int width = 20;
+        const int filled = std::min(width, done_ * width / planned_);
+        std::string bar(static_cast<std::size_t>(filled), '#');
+        bar.resize(width, '.');
+        std::fprintf(stderr, "\r\033[Kmsmcl: [%s] %d/%d %s %.1f s", bar.c_str(), std::min(done_ + 1, planned_), planned_,
+                     stage_.c_str(), elapsed / 1000.0);
+        std::fflush(stderr);
+        drawn_ = true;
+    }
+}
+
+DeviceBuffer::DeviceBuffer(Context& context, std::size_t bytes, const void* data) : bytes_(bytes) {
+    cl_int status = CL_SUCCESS;
+    const cl_mem_flags flags = CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0);
+    memory_ = clCreateBuffer(context.cl_context_handle(), flags, bytes > 0 ? bytes : 4, const_cast<void*>(data), &status);
+    if (status != CL_SUCCESS) throw opencl_error(status, "clCreateBuffer", std::to_string(bytes) + " bytes");
+}
+
+DeviceBuffer::~DeviceBuffer() {
+    if (memory_) clReleaseMemObject(memory_);
+}
+
+void DeviceBuffer::read(Context& context, void* data) const {
+    if (bytes_ == 0) return;
+    const cl_int status =
+        clEnqueueReadBuffer(context.cl_queue_handle(), memory_, CL_TRUE, 0, bytes_, data, 0, nullptr, nullptr);
+    if (status != CL_SUCCESS) throw opencl_error(status, "clEnqueueReadBuffer");
+}
+
+} // namespace msmcl::cli

@@ -1,0 +1,86 @@
+// Stages of one msmcl command, timed for --verbose and shown as progress on a terminal.
+//  - --verbose: one line per stage on stderr, "msmcl: <stage>: <ms> ms[ (<note>)]";
+//  - stderr a terminal (and not --verbose): a progress line on stderr, redrawn while work
+//    has run for more than half a second (MSMCL_PROGRESS_AFTER_MS), erased when the command
+//    ends; nothing otherwise, so logs and pipes stay clean.
+// The library never prints: the stages are timed here, around its calls.
+#pragma once
+
+#include <msmcl/context.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace msmcl::cli {
+
+class Stages {
+public:
+    /// `planned`: how many stages the command will run (the progress bar's length).
+    Stages(bool verbose, int planned);
+    ~Stages();
+    Stages(const Stages&) = delete;
+    Stages& operator=(const Stages&) = delete;
+
+    bool verbose() const { return verbose_; }
+
+    /// Runs `work` as the stage `name` and returns what it returns.
+    template <class Work>
+    auto run(const std::string& name, Work&& work) -> decltype(work()) {
+        begin(name);
+        if constexpr (std::is_void_v<decltype(work())>) {
+            work();
+            end();
+        } else {
+            auto result = work();
+            end();
+            return result;
+        }
+    }
+    /// Text appended to the current stage's line (e.g. "1 program built").
+    void note(const std::string& text) { note_ = text; }
+
+private:
+    void begin(const std::string& name);
+    void end();
+    void draw_progress();
+
+    bool verbose_ = false;
+    bool progress_ = false;
+    int planned_ = 1;
+    int done_ = 0;
+    double progress_after_ms_ = 500.0;
+    std::string note_;
+    std::chrono::steady_clock::time_point command_start_, stage_start_;
+
+    // The progress line, drawn by a thread while a stage runs.
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stop_ = false;
+    bool drawn_ = false;
+    std::string stage_;
+    std::thread painter_;
+};
+
+/// A device buffer of the CLI's staged uploads, released on destruction.
+class DeviceBuffer {
+public:
+    DeviceBuffer(Context& context, std::size_t bytes, const void* data = nullptr);
+    ~DeviceBuffer();
+    DeviceBuffer(const DeviceBuffer&) = delete;
+    DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+    cl_mem get() const { return memory_; }
+    /// Blocking read of the whole buffer.
+    void read(Context& context, void* data) const;
+
+private:
+    cl_mem memory_ = nullptr;
+    std::size_t bytes_ = 0;
+};
+
+} // namespace msmcl::cli

@@ -1,0 +1,140 @@
+// Command-line conventions of msmcl, run as processes: an unknown subcommand or option is
+// named with a "did you mean" suggestion (exit 2, one line); --verbose prints a timing line
+// per stage and changes no output byte; the progress line appears on a terminal only (a
+// pseudo-terminal from util-linux `script`), never in a pipe or file.
+#include "io/atomic_file.hpp"
+
+#include <msmcl/context.hpp>
+#include <msmcl/errors.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+#ifndef MSMCL_CLI_PATH
+#define MSMCL_CLI_PATH ""
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool have_device() {
+    try {
+        return !msmcl::list_devices().empty();
+    } catch (const msmcl::error&) {
+        return false;
+    }
+}
+
+class CliConventions : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (std::string(MSMCL_CLI_PATH).empty()) GTEST_SKIP() << "built without the msmcl CLI";
+        directory_ = fs::temp_directory_path() / ("msmcl-conventions-" + std::to_string(::getpid()));
+        fs::create_directories(directory_);
+    }
+    void TearDown() override {
+        if (!directory_.empty()) fs::remove_all(directory_);
+    }
+    std::string path(const std::string& name) const { return (directory_ / name).string(); }
+    std::string q(const std::string& name) const { return "'" + path(name) + "'"; }
+    static std::string data(const std::string& name) { return "'" + std::string(MSMCL_SOURCE_DIR) + "/data/" + name + "'"; }
+    // Runs `msmcl <arguments>` with stdout and stderr in files; the exit code (-1: signal).
+    int cli(const std::string& arguments, const std::string& environment = "") {
+        const int status = std::system((environment + " '" + MSMCL_CLI_PATH + "' " + arguments + " >" + q("stdout.txt") +
+                                        " 2>" + q("stderr.txt"))
+                                           .c_str());
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    std::string out() const { return msmcl::io::read_whole_file(path("stdout.txt")); }
+    std::string err() const { return msmcl::io::read_whole_file(path("stderr.txt")); }
+    // Exit 2 and exactly the one line `expected` on stderr.
+    void expect_usage(const std::string& arguments, const std::string& expected) {
+        SCOPED_TRACE(arguments);
+        EXPECT_EQ(cli(arguments), 2);
+        EXPECT_EQ(err(), "msmcl: " + expected + "\n");
+    }
+
+    fs::path directory_;
+};
+
+TEST_F(CliConventions, UnknownWordsAreNamedWithASuggestion) {
+    expect_usage("fitler a.exr b.exr --format nlq64", "unknown command 'fitler' (did you mean 'filter'?)");
+    expect_usage("shdae", "unknown command 'shdae' (did you mean 'shade'?)");
+    // Nothing near: the list of commands.
+    EXPECT_EQ(cli("frobnicate"), 2);
+    const std::string message = err();
+    EXPECT_EQ(message.rfind("msmcl: unknown command 'frobnicate' (commands: filter, shade, ", 0), 0u) << message;
+    EXPECT_NE(message.find("info"), std::string::npos) << message;
+    EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1);
+    // Options of the subcommand, global options before and after it, values skipped.
+    expect_usage("filter a.exr b.exr --fromat nlq64", "unknown option '--fromat' for msmcl filter (did you mean '--format'?)");
+    expect_usage("--devcie cpu devices", "unknown option '--devcie' for msmcl (did you mean '--device'?)");
+    expect_usage("--device cpu shade m.exr r.exr y.exr --lokup nearest",
+                 "unknown option '--lokup' for msmcl shade (did you mean '--lookup'?)");
+    expect_usage("filter a.exr b.exr --format nlq64 --depth-range -1,1 --sigam 2",
+                 "unknown option '--sigam' for msmcl filter (did you mean '--sigma'?)");
+    expect_usage("sat a.exr b.exr --max-kernal=100", "unknown option '--max-kernal' for msmcl sat (did you mean '--max-kernel'?)");
+    expect_usage("filter a.exr b.exr --format nlq64 --qqqqqqqq", "unknown option '--qqqqqqqq' for msmcl filter");
+    // Known words still get CLI11's own messages.
+    expect_usage("filter a.exr b.exr", "--format is required");
+}
+
+TEST_F(CliConventions, VerbosePrintsATimingLinePerStageAndChangesNoByte) {
+    if (!have_device()) GTEST_SKIP() << "no OpenCL device";
+    const std::string depth = data("railing_256x256_4x.exr"), view = data("railing_view_160x120.exr");
+    ASSERT_EQ(cli("filter " + depth + " " + q("quiet.exr") + " --format nlq32"), 0) << err();
+    EXPECT_EQ(err(), ""); // not a terminal: no progress, no timing
+    ASSERT_EQ(cli("--verbose filter " + depth + " " + q("verbose.exr") + " --format nlq32"), 0) << err();
+    const std::string filter_log = err();
+    EXPECT_EQ(out(), "");
+    EXPECT_EQ(msmcl::io::read_whole_file(path("verbose.exr")), msmcl::io::read_whole_file(path("quiet.exr")));
+    for (const char* stage : {"read", "device setup", "program", "upload", "kernel", "download", "write"})
+        EXPECT_NE(filter_log.find(std::string("msmcl: ") + stage + ": "), std::string::npos) << stage << "\n" << filter_log;
+    EXPECT_EQ(std::count(filter_log.begin(), filter_log.end(), '\n'), 7) << filter_log;
+    // The program stage says whether it built or found the program.
+    EXPECT_TRUE(filter_log.find("cache hit") != std::string::npos || filter_log.find("built") != std::string::npos)
+        << filter_log;
+
+    ASSERT_EQ(cli("shade " + q("quiet.exr") + " " + view + " " + q("y_quiet.exr")), 0) << err();
+    ASSERT_EQ(cli("shade " + q("quiet.exr") + " " + view + " " + q("y_verbose.exr") + " --verbose"), 0) << err();
+    const std::string shade_log = err();
+    EXPECT_EQ(msmcl::io::read_whole_file(path("y_verbose.exr")), msmcl::io::read_whole_file(path("y_quiet.exr")));
+    for (const char* stage : {"read map", "read receivers", "device setup", "program", "upload", "kernel", "download",
+                              "write"})
+        EXPECT_NE(shade_log.find(std::string("msmcl: ") + stage + ": "), std::string::npos) << stage << "\n" << shade_log;
+
+    ASSERT_EQ(cli("sat " + depth + " " + q("sat.exr") + " --verbose"), 0) << err();
+    for (const char* stage : {"read", "device setup", "program", "table build", "write"})
+        EXPECT_NE(err().find(std::string("msmcl: ") + stage), std::string::npos) << stage << "\n" << err();
+}
+
+TEST_F(CliConventions, ProgressOnlyOnATerminal) {
+    if (!have_device()) GTEST_SKIP() << "no OpenCL device";
+    if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no `script` (util-linux) for a terminal";
+    const std::string depth = data("railing_256x256_4x.exr");
+    // In a pseudo-terminal, with the delay set to 0: the bar is drawn, then erased.
+    const std::string command = "MSMCL_PROGRESS_AFTER_MS=0 script -qec \"'" + std::string(MSMCL_CLI_PATH) +
+                                "' filter " + depth + " " + q("tty.exr") + " --format msm64\" /dev/null > " +
+                                q("tty.txt") + " 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0);
+    const std::string terminal = msmcl::io::read_whole_file(path("tty.txt"));
+    EXPECT_NE(terminal.find("msmcl: ["), std::string::npos) << terminal;
+    EXPECT_GE(terminal.size(), 4u);
+    EXPECT_EQ(terminal.substr(terminal.size() - 4), "\r\033[K") << terminal;
+    EXPECT_TRUE(fs::exists(path("tty.exr")));
+    // The same into a file: nothing at all.
+    ASSERT_EQ(cli("filter " + depth + " " + q("file.exr") + " --format msm64", "MSMCL_PROGRESS_AFTER_MS=0"), 0);
+    EXPECT_EQ(err(), "");
+    EXPECT_EQ(msmcl::io::read_whole_file(path("file.exr")), msmcl::io::read_whole_file(path("tty.exr")));
+}
+
+} // namespace
