@@ -106,7 +106,7 @@ std::vector<float> soft_shade_in_stages(Stages& stages, Context& context, const 
 } // namespace
 
 void add_sat_commands(CLI::App& app, SatCommands& commands) {
-    // msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range R]
+    // msmcl sat IN.exr OUT.exr [--max-kernel N] [--depth-range R] [--kernel K]
     SatArguments& sat = commands.sat;
     CLI::App* sat_command = app.add_subcommand(
         "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, KTX2 or DDS)");
@@ -120,6 +120,12 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     sat_command->add_option("--depth-range", sat.depth_range, "depth convention of the input: 0,1 or -1,1")
         ->capture_default_str()
         ->type_name("RANGE");
+    sat_command->add_option("--kernel", sat.kernel,
+                            "automatic (by the device's type), tiled_gpu (32x32 tiles in local memory), tiled_cpu "
+                            "(bands of 32 rows, one work-item each) or row_per_thread (the papers' baseline); all "
+                            "give the same table")
+        ->capture_default_str()
+        ->type_name("KERNEL");
     sat_command->add_option("--out-container", sat.out_container,
                             "exr, ktx2 or dds (default: from the output's extension)")
         ->type_name("CONTAINER");
@@ -176,6 +182,11 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
     const Container container = output_container(arguments.out_container, arguments.output);
 
     Stages stages(global.verbose, global.verbose ? 7 : 4);
+    const std::optional<SatKernel> kernel = parse_sat_kernel(arguments.kernel);
+    if (!kernel)
+        throw usage_error("unknown --kernel '" + arguments.kernel +
+                          "' (expected automatic, tiled_gpu, tiled_cpu or row_per_thread)");
+    options.kernel = *kernel;
 
     // Read and validate the depth map (and its translucent layers), build the table on the device.
     const io::TranslucentDepth layered =
