@@ -14,7 +14,7 @@
 //
 // Oclgrind not installed: the tests skip, unless MSMCL_REQUIRE_OCLGRIND=1 (.ci/run sets
 // it), which makes the skip a failure.
-#include "data/scatter/scatter_geometry.hpp"
+#include "tools/scatter_geometry.hpp"
 #include "filter_fixtures.hpp"
 #include "io/scene_json.hpp"
 #include "seeded_test.hpp"
