@@ -235,6 +235,18 @@ cpu_translucent_sample(__global const float* samples, __global const float* laye
 }
 #endif
 
+// Before the first phase: zeros into the 8 padding floats of every plane of both row
+// buffers, which the last 8 work-items' 9-tap windows read. Their results are never
+// stored, but a value read from memory nothing wrote is undefined (and a GPU or an
+// uninitialized-value checker rightly flags the branches of CPU_END_BLOCK on it).
+static inline void clear_row_padding(int zero, __local float* resolved) {
+    const size_t x = CPU_X(0);
+    if (x < 2 * CPU_GUARD) {
+#pragma unroll
+        for (int plane = 0; plane < 2 * 4; ++plane) (resolved + plane * CPU_ROW_PLANE + CPU_IN_W)[x] = 0.0f;
+    }
+}
+
 // Phase "resolve" of input row r: work-item x averages the moments of (z - shift) of the
 // S samples of input texel (x0 - 4 + x, clamped row) into buffer r % 2 of `resolved`, in
 // the order of the other kernels' resolve_texel (sum from sample 0 up, times 1/S).
@@ -521,13 +533,20 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     __global const float *restrict depth, int width, int height, __global uint *restrict texture, float w0, \
         float w1, float w2, float w3, float w4, int ix0, int ix1, __global int *progress, int zero CPU_LAYER_PARAMS
 
-// One quantization phase and its barrier (the phase is a constant at each use).
+// One quantization phase and its barrier (the phase is a constant at each use). The last
+// phase's barrier also orders global memory: every work-item has read the row counter in
+// it, and work-item 0 advances the counter after it (CPU_ROW_FENCE).
 #define CPU_QUANTIZE(PHASE, BORDER)                                                                       \
     if ((PHASE) < CPU_QUANTIZE_PHASES) {                                                                  \
         quantize_phase((PHASE), depth, width, height, texture, BORDER, ix0, ix1, zero, row, shift_of,    \
-                       filtered, words);                                                                            \
-        barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
+                       filtered, words);                                                                  \
+        barrier((PHASE) == CPU_QUANTIZE_PHASES - 1 ? CPU_ROW_FENCE : CLK_LOCAL_MEM_FENCE);               \
     }
+
+// The barrier between the last reads of the row counter and work-item 0's increment: the
+// counter is global memory, which a barrier orders only with CLK_GLOBAL_MEM_FENCE (OpenCL
+// 1.2, section 6.12.8); with the local fence alone the reads race with the increment.
+#define CPU_ROW_FENCE (CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE)
 
 // The shift's storage and its two phases (nlq formats); the other formats pass a pointer
 // nothing reads.
@@ -558,14 +577,15 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     CPU_SHIFT_STORAGE                                                                                     \
     __global int* row = progress + get_group_id(1) * get_num_groups(0) + get_group_id(0);               \
     if (get_local_id(0) == 0) *row = 0;                                                                   \
-    barrier(CLK_GLOBAL_MEM_FENCE);                                                                        \
+    clear_row_padding(zero, resolved);                                                                    \
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);                                                  \
     CPU_SHIFT_PHASES(BORDER)                                                                              \
     resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row, shift_of, resolved CPU_LAYER_ARGS);                  \
     barrier(CLK_LOCAL_MEM_FENCE);                                                                         \
     for (int fill = 2 * CPU_GUARD; fill > 0; --fill) {                                                    \
         blur_row(texture, w0, w1, w2, w3, w4, zero, *row, resolved, ring);                               \
         resolve_row(depth, width, height, texture, BORDER, ix0, ix1, zero, *row + 1, shift_of, resolved CPU_LAYER_ARGS);          \
-        barrier(CLK_LOCAL_MEM_FENCE);                                                                     \
+        barrier(CPU_ROW_FENCE);                                                                           \
         if (get_local_id(0) == 0) *row += 1;                                                              \
         barrier(CLK_GLOBAL_MEM_FENCE);                                                                    \
     }                                                                                                     \

@@ -7,4 +7,5 @@ build_dir=${MSMCL_BUILD_DIR:-build}
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" -j"$jobs"
+# Every test, the Oclgrind label (`ctest -L oclgrind`) included.
 ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"

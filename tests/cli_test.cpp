@@ -5,11 +5,13 @@
 #include "data/tools/triangle_rasterizer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
+#include "io/sat_exr.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
 #include <msmcl/formats.hpp>
+#include <msmcl/sat.hpp>
 #include <msmcl/version.hpp>
 
 #include <gtest/gtest.h>
@@ -272,6 +274,46 @@ TEST_F(Cli, FilterWritesEveryFormatWithItsAttributesLikeTheApi) {
     EXPECT_EQ(msmcl::io::read_whole_file(out("again.exr")), msmcl::io::read_whole_file(out("nlq64.exr")));
     std::vector<std::string> expected = {"again.exr", "moments128.exr", "msm64.exr", "nlq32.exr", "nlq64.exr"};
     EXPECT_EQ(outputs(), expected); // no temporary files
+}
+
+// --kernel reaches every work distribution of filter and sat; each gives the library's
+// result with the same choice (nlq64 tells the filter kernels apart: each shifts the moments
+// by the depth midrange of its own blocks), `automatic` the one the library picks.
+TEST_F(Cli, KernelOptionPicksTheDistribution) {
+    if (!have_device()) GTEST_SKIP() << "no OpenCL device";
+    const DepthImage depth = make_depth(70, 50, 4, DepthRange::zero_one);
+    msmcl::io::write_depth_exr(in("depth.exr"), depth);
+    msmcl::Context context;
+    for (const char* name : {"automatic", "fused_paper", "fused_cpu", "three_pass"}) {
+        SCOPED_TRACE(name);
+        const std::string file = out(std::string("filter_") + name + ".exr");
+        const ProcessResult result =
+            msmcl_cli({"filter", in("depth.exr"), file, "--format", "nlq64", "--kernel", name});
+        ASSERT_EQ(result.exit_code, 0) << result.err;
+        msmcl::FilterOptions options;
+        options.format = Format::nlq64;
+        options.kernel = *msmcl::parse_filter_kernel(name);
+        EXPECT_EQ(msmcl::io::read_texture_exr(file).texture.words, msmcl::filter(context, depth, options).words);
+    }
+    const msmcl::FilterKernel automatic = msmcl::filter_kernel_for(context, msmcl::FilterKernel::automatic);
+    EXPECT_NE(automatic, msmcl::FilterKernel::automatic);
+    EXPECT_EQ(msmcl::io::read_whole_file(out("filter_automatic.exr")),
+              msmcl::io::read_whole_file(out(std::string("filter_") + msmcl::filter_kernel_name(automatic) + ".exr")));
+    // Every table build gives the same table.
+    const std::vector<std::uint32_t> table = msmcl::build_sat(context, depth, msmcl::SatOptions{}).words;
+    for (const char* name : {"automatic", "tiled_gpu", "tiled_cpu", "row_per_thread"}) {
+        SCOPED_TRACE(name);
+        const std::string file = out(std::string("sat_") + name + ".exr");
+        const ProcessResult result = msmcl_cli({"sat", in("depth.exr"), file, "--kernel", name});
+        ASSERT_EQ(result.exit_code, 0) << result.err;
+        EXPECT_EQ(msmcl::io::read_sat_exr(file).table.words, table);
+    }
+    // An unknown kernel: usage error, nothing written.
+    for (const std::string& name : outputs()) fs::remove(out(name));
+    expect_bad_input({"filter", in("depth.exr"), out("t.exr"), "--format", "nlq64", "--kernel", "fused"}, "",
+                     "unknown --kernel 'fused' (expected automatic, fused_paper, fused_cpu or three_pass)");
+    expect_bad_input({"sat", in("depth.exr"), out("t.exr"), "--kernel", "tiled"}, "",
+                     "unknown --kernel 'tiled' (expected automatic, tiled_gpu, tiled_cpu or row_per_thread)");
 }
 
 TEST_F(Cli, FilterWithoutBlurGivesThePowersOfEachDepth) {

@@ -174,14 +174,17 @@ TEST_F(FilterCpu, OtherTilingsGiveTheSameTexture) {
     EXPECT_EQ(standard.words, three_pass(depth, Format::msm64).words);
 }
 
-// `automatic` picks the CPU distribution on a CPU device (the nlq codes tell the kernels
-// apart: each shifts by the depth midrange of its own blocks) and the paper's kernel elsewhere.
+// `automatic` picks the CPU distribution on a device that is a CPU and not a GPU (the nlq
+// codes tell the kernels apart: each shifts by the depth midrange of its own blocks) and the
+// paper's kernel elsewhere (docs/oclgrind.md).
 TEST_F(FilterCpu, AutomaticPicksTheDistributionOfTheDeviceType) {
     const DepthImage depth = make_depth(300, 200, 4, DepthRange::zero_one, test_seed() + 31);
     const Texture automatic = run(depth, Format::nlq64, 2.4f, DepthRange::zero_one, FilterKernel::automatic);
-    const FilterKernel expected = context_->device().is_cpu ? FilterKernel::fused_cpu : FilterKernel::fused_paper;
+    const bool cpu_only = context_->device().is_cpu && !context_->device().is_gpu;
+    const FilterKernel expected = cpu_only ? FilterKernel::fused_cpu : FilterKernel::fused_paper;
+    EXPECT_EQ(msmcl::filter_kernel_for(*context_, FilterKernel::automatic), expected);
     EXPECT_EQ(automatic.words, run(depth, Format::nlq64, 2.4f, DepthRange::zero_one, expected).words);
-    if (context_->device().is_cpu)
+    if (cpu_only)
         EXPECT_NE(automatic.words, run(depth, Format::nlq64, 2.4f, DepthRange::zero_one, FilterKernel::fused_paper).words);
 }
 

@@ -2,6 +2,7 @@
 #include "runtime/context_impl.hpp"
 #include "runtime/kernel_sources.hpp"
 #include "runtime/quirks.hpp"
+#include "runtime/work_distribution.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -43,6 +44,33 @@ TEST(EmbeddedKernels, EveryKernelFileIsEmbeddedAndIncludesResolve) {
         EXPECT_NE(source.rfind("#include \"", 0), 0u) << name;
     }
     EXPECT_THROW(msmcl::detail::embedded_kernel_file("no_such_file.cl"), msmcl::error);
+}
+
+// `automatic` gives the GPU distributions to any device that reports GPU (Oclgrind reports
+// CPU|GPU|ACCELERATOR) or neither type, the CPU ones only to a CPU that is not a GPU; the
+// Oclgrind build options are keyed on its device name and come with none else.
+TEST(DeviceQuirks, DistributionAndOclgrindOptions) {
+    msmcl::DeviceInfo oclgrind;
+    oclgrind.name = "Oclgrind Simulator";
+    oclgrind.platform_name = "Oclgrind";
+    oclgrind.is_cpu = oclgrind.is_gpu = true;
+    msmcl::DeviceInfo cpu;
+    cpu.name = "pthread-skylake";
+    cpu.platform_name = "Portable Computing Language";
+    cpu.is_cpu = true;
+    msmcl::DeviceInfo accelerator;
+    accelerator.name = "FPGA";
+    EXPECT_TRUE(msmcl::detail::prefers_gpu_distribution(oclgrind));
+    EXPECT_FALSE(msmcl::detail::prefers_gpu_distribution(cpu));
+    EXPECT_TRUE(msmcl::detail::prefers_gpu_distribution(accelerator));
+    EXPECT_TRUE(msmcl::detail::is_oclgrind(oclgrind));
+    EXPECT_FALSE(msmcl::detail::is_oclgrind(cpu));
+    const std::string options = msmcl::detail::device_build_options(oclgrind, "filter_fused_cpu.cl");
+    EXPECT_NE(options.find("-fno-inline"), std::string::npos) << options;
+    EXPECT_EQ(options.find("-cl-opt-disable"), std::string::npos) << options;
+    EXPECT_NE(msmcl::detail::device_build_options(oclgrind, "shade.cl").find("-cl-opt-disable"), std::string::npos);
+    EXPECT_EQ(msmcl::detail::device_build_options(cpu, "shade.cl"), "-w");
+    EXPECT_EQ(msmcl::detail::device_build_options(accelerator, "shade.cl"), "");
 }
 
 TEST(DeviceFilters, ComposeAndParse) {

@@ -157,7 +157,14 @@ TEST_F(ScatterCli, RadianceEqualsTheLibrary) {
         int moments;
         bool filtered;
         float beta;
-    } cases[] = {{{}, 6, true, -1.0f}, {{"--moments", "4", "--no-filter", "--beta", "0.5"}, 4, false, 0.5f}};
+        msmcl::ScatterKernel kernel = msmcl::ScatterKernel::automatic;
+        msmcl::FilterKernel filter_kernel = msmcl::FilterKernel::automatic;
+    } cases[] = {{{}, 6, true, -1.0f},
+                 {{"--moments", "4", "--no-filter", "--beta", "0.5"}, 4, false, 0.5f},
+                 {{"--kernel", "rows_gpu", "--filter-kernel", "fused_paper"}, 6, true, -1.0f,
+                  msmcl::ScatterKernel::rows_gpu, msmcl::FilterKernel::fused_paper},
+                 {{"--kernel", "rows_cpu", "--filter-kernel", "three_pass", "--moments", "4"}, 4, true, -1.0f,
+                  msmcl::ScatterKernel::rows_cpu, msmcl::FilterKernel::three_pass}};
     for (const auto& c : cases) {
         std::vector<std::string> arguments{in("scene.json"), in("shadow.exr"), in("camera.exr"), out("radiance.exr")};
         arguments.insert(arguments.end(), c.options.begin(), c.options.end());
@@ -168,6 +175,8 @@ TEST_F(ScatterCli, RadianceEqualsTheLibrary) {
         options.moments = c.moments;
         options.filtered = c.filtered;
         options.beta = c.beta;
+        options.kernel = c.kernel;
+        options.filter_kernel = c.filter_kernel;
         const std::vector<float> expected = msmcl::scatter(context, scene_, shadow_, camera_, options);
         const std::vector<float> got = channel(out("radiance.exr"), "Y");
         ASSERT_EQ(got.size(), expected.size());
@@ -278,6 +287,8 @@ TEST_F(ScatterCli, WrongSizesAndOptions) {
     expect_bad_input(with({"--sigma", "-1"}), "", "--sigma must be >= 0");
     expect_bad_input(with({"--ray-march", "0"}), "", "--ray-march must be an integer");
     expect_bad_input(with({"--ray-march", "16", "--rectified", out("x.exr")}), "", "need the prefiltered method");
+    expect_bad_input(with({"--kernel", "rows"}), "", "unknown --kernel 'rows' (expected automatic, rows_gpu or rows_cpu)");
+    expect_bad_input(with({"--filter-kernel", "gpu"}), "", "unknown --filter-kernel 'gpu'");
     expect_bad_input({in("scene.json"), in("missing.exr"), in("camera.exr"), out("r.exr")}, in("missing.exr"), "");
 }
 

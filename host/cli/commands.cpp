@@ -161,6 +161,10 @@ void run_filter(const GlobalArguments& global, const FilterArguments& arguments)
     if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + arguments.sigma + "'");
     const DepthRange range = parse_depth_range_option(arguments.depth_range);
     const Container container = output_container(arguments.out_container, arguments.output);
+    const std::optional<FilterKernel> kernel = parse_filter_kernel(arguments.kernel);
+    if (!kernel)
+        throw usage_error("unknown --kernel '" + arguments.kernel +
+                          "' (expected automatic, fused_paper, fused_cpu or three_pass)");
 
     Stages stages(global.verbose, global.verbose ? 7 : 4);
 
@@ -175,6 +179,7 @@ void run_filter(const GlobalArguments& global, const FilterArguments& arguments)
     options.format = *format;
     options.sigma = sigma;
     options.depth_range = range;
+    options.kernel = *kernel;
     Texture texture;
     try {
         if (stages.verbose())

@@ -22,6 +22,7 @@ struct FilterArguments {
     std::string sigma = "2.4";
     std::string depth_range = "0,1";
     std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension (.ktx2, .dds, else exr)
+    std::string kernel = "automatic"; ///< automatic, fused_paper, fused_cpu or three_pass
 };
 
 struct ShadeArguments {

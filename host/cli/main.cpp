@@ -69,7 +69,8 @@ int main(int argc, char** argv) {
                  "print a timing line per stage on stderr (read, device setup, program build or cache hit, "
                  "upload, kernel, download, write)");
 
-    // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--out-container C]
+    // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--kernel K]
+    //              [--out-container C]
     msmcl::cli::FilterArguments filter;
     CLI::App* filter_command =
         app.add_subcommand("filter", "Depth map (EXR, Z or sample<N>.Z) -> filtered moment shadow map (EXR, KTX2 or DDS)");
@@ -83,6 +84,12 @@ int main(int argc, char** argv) {
     filter_command->add_option("--depth-range", filter.depth_range, "depth convention of the input: 0,1 or -1,1")
         ->capture_default_str()
         ->type_name("RANGE");
+    filter_command->add_option("--kernel", filter.kernel,
+                               "automatic (by the device's type), fused_paper (the paper's GPU kernel), "
+                               "fused_cpu (the CPU distribution) or three_pass (the baseline); all give the same "
+                               "texture up to the nlq formats' per-block shift")
+        ->capture_default_str()
+        ->type_name("KERNEL");
     filter_command->add_option("--out-container", filter.out_container,
                                "exr, ktx2 or dds (default: from the output's extension, else exr)")
         ->type_name("CONTAINER");

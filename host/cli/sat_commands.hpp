@@ -1,6 +1,6 @@
 // The summed-area table subcommands of msmcl (docs/math.md):
 //   msmcl sat IN.exr OUT.exr|OUT.ktx2|OUT.dds [--max-kernel N] [--depth-range 0,1|-1,1]
-//             [--out-container C]
+//             [--out-container C] [--kernel K]
 //   msmcl soft SAT.exr|SAT.ktx2|SAT.dds RECEIVERS.exr OUT.exr --light-size L [--search-size K]
 //              [--min-filter F] [--depth-bias B] [--depth-range R] [--max-kernel N]
 // As the other subcommands: options are checked before any file is touched, inputs are
@@ -20,6 +20,7 @@ struct SatArguments {
     std::string output;
     std::string max_kernel = "729";
     std::string depth_range = "0,1";
+    std::string kernel = "automatic"; ///< automatic, tiled_gpu, tiled_cpu or row_per_thread
     std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension
 };
 

@@ -9,6 +9,7 @@
 #include "io/ktx2.hpp"
 
 #include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
 #include <msmcl/scatter.hpp>
 
 #include <cerrno>
@@ -98,6 +99,16 @@ void add_scatter_command(CLI::App& app, ScatterArguments& a) {
         ->type_name("FILE");
     command->add_option("--prefix-sums", a.prefix_sums, "also write the stored prefix sums, decoded (EXR b1..bk)")
         ->type_name("FILE");
+    command->add_option("--kernel", a.kernel,
+                        "the prefilter's work per rectified row: automatic (by the device's type), rows_gpu (128 "
+                        "work-items, 2 texels each) or rows_cpu (64 work-items, 8 texels each); same bits")
+        ->capture_default_str()
+        ->type_name("KERNEL");
+    command->add_option("--filter-kernel", a.filter_kernel,
+                        "kernel of the moment map filtered resampling reads: automatic, fused_paper, fused_cpu or "
+                        "three_pass (as msmcl filter --kernel)")
+        ->capture_default_str()
+        ->type_name("KERNEL");
     command->add_option("--map", a.map,
                         "also write the prefiltered map as KTX2 (6 moments: 2 layers of A2B10G10R10_UNORM_PACK32, "
                         "4: R16G16B16A16_UNORM)")
@@ -119,6 +130,14 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
         options.beta = parse_finite_float("--beta", a.beta);
         if (options.beta < 0 || options.beta > 1) throw usage_error("--beta must be adaptive or in [0, 1], got '" + a.beta + "'");
     }
+    const std::optional<ScatterKernel> kernel = parse_scatter_kernel(a.kernel);
+    if (!kernel) throw usage_error("unknown --kernel '" + a.kernel + "' (expected automatic, rows_gpu or rows_cpu)");
+    options.kernel = *kernel;
+    const std::optional<FilterKernel> filter_kernel = parse_filter_kernel(a.filter_kernel);
+    if (!filter_kernel)
+        throw usage_error("unknown --filter-kernel '" + a.filter_kernel +
+                          "' (expected automatic, fused_paper, fused_cpu or three_pass)");
+    options.filter_kernel = *filter_kernel;
     const int ray_steps = a.ray_march.empty() ? 0 : static_cast<int>(parse_integer("--ray-march", a.ray_march, 1, 1 << 20));
     const auto jitter = static_cast<std::uint32_t>(parse_integer("--jitter", a.jitter, 0, 0xffffffffL));
     if (ray_steps > 0 && (!a.rectified.empty() || !a.prefix_sums.empty() || !a.map.empty()))

@@ -27,6 +27,8 @@ struct ScatterArguments {
     std::string jitter = "0";
     std::string rectified;   ///< optional EXR of the resampled moments
     std::string prefix_sums; ///< optional EXR of the stored (quantized) prefix sums
+    std::string kernel = "automatic";        ///< the prefilter's rows: automatic, rows_gpu or rows_cpu
+    std::string filter_kernel = "automatic"; ///< the moment map's filter kernel (as msmcl filter --kernel)
     std::string map;         ///< optional KTX2 of the prefiltered map, as a renderer uploads it
     CLI::App* command = nullptr;
 };

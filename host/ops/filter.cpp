@@ -2,6 +2,7 @@
 #include "ops/kernel_variants.hpp"
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/work_distribution.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -143,14 +144,15 @@ std::string device_limits(const DeviceInfo& device) {
     return std::to_string(device.max_work_group_size) + " and " + std::to_string(device.local_mem_bytes);
 }
 
-// automatic -> fused_cpu on CPU devices, fused_paper elsewhere, each where the device can
-// run it, else three_pass. A device that is not a CPU never gets fused_cpu (its budgets
-// are a CPU's: scripts/gpu_compile_report.py exempts it). An explicit choice is honoured
-// or refused with device_error.
+// automatic -> fused_cpu on CPU devices that are not GPUs (runtime/work_distribution.hpp),
+// fused_paper elsewhere, each where the device can run it, else three_pass. A device that
+// is not a CPU never gets fused_cpu (its budgets are a CPU's: scripts/gpu_compile_report.py
+// exempts it). An explicit choice is honoured or refused with device_error.
 FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
     const CpuTiling tiling = cpu_tiling();
     if (requested == FilterKernel::automatic) {
-        if (device.is_cpu && device_runs_fused_cpu(device, tiling)) return FilterKernel::fused_cpu;
+        if (!detail::prefers_gpu_distribution(device) && device_runs_fused_cpu(device, tiling))
+            return FilterKernel::fused_cpu;
         return device_runs_fused(device) ? FilterKernel::fused_paper : FilterKernel::three_pass;
     }
     if (requested == FilterKernel::fused_paper && !device_runs_fused(device)) {
@@ -337,6 +339,27 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
 }
 
 } // namespace
+
+const char* filter_kernel_name(FilterKernel kernel) noexcept {
+    switch (kernel) {
+        case FilterKernel::automatic: return "automatic";
+        case FilterKernel::fused_paper: return "fused_paper";
+        case FilterKernel::three_pass: return "three_pass";
+        case FilterKernel::fused_cpu: return "fused_cpu";
+    }
+    return "unknown";
+}
+
+std::optional<FilterKernel> parse_filter_kernel(std::string_view name) noexcept {
+    for (FilterKernel kernel :
+         {FilterKernel::automatic, FilterKernel::fused_paper, FilterKernel::fused_cpu, FilterKernel::three_pass})
+        if (name == filter_kernel_name(kernel)) return kernel;
+    return std::nullopt;
+}
+
+FilterKernel filter_kernel_for(const Context& context, FilterKernel requested) {
+    return choose_kernel(context.device(), requested);
+}
 
 namespace detail {
 

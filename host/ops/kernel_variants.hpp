@@ -8,6 +8,7 @@
 #include <msmcl/filter.hpp>
 #include <msmcl/formats.hpp>
 #include <msmcl/sat.hpp>
+#include <msmcl/scatter.hpp>
 #include <msmcl/shade.hpp>
 
 #include <string>
@@ -36,8 +37,10 @@ std::vector<std::string> sat_translucent_defines(int samples, int layers, DepthR
 // --- shade (host/ops/shade.cpp), soft (host/ops/soft.cpp), scatter (host/ops/scatter.cpp)
 std::vector<std::string> shade_defines(Format format, Lookup lookup, DepthRange range, bool receiver_pixels);
 std::vector<std::string> soft_defines(DepthRange range);
-/// Defines of scatter.cl for `moments` on `device` (its row tiling depends on the device).
-std::vector<std::string> scatter_defines(int moments, const DeviceInfo& device);
+/// Defines of scatter.cl for `moments` on `device` (its row tiling depends on the device,
+/// or on an explicit `kernel`).
+std::vector<std::string> scatter_defines(int moments, const DeviceInfo& device,
+                                         ScatterKernel kernel = ScatterKernel::automatic);
 
 // --- the catalogue (host/ops/kernel_variants.cpp)
 struct KernelVariant {

@@ -3,6 +3,7 @@
 #include "ops/kernel_variants.hpp"
 #include "ops/translucent_layers.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/work_distribution.hpp"
 
 #include "kernels/msm_sat.clh"
 
@@ -343,10 +344,11 @@ Moments4 moments_of_basis(const msm_sat_basis& mean) {
 
 namespace detail {
 
-// automatic: the GPU distribution on GPUs, the CPU one elsewhere.
+// automatic: the CPU distribution on CPUs that are not GPUs, the GPU one elsewhere
+// (runtime/work_distribution.hpp).
 SatKernel sat_kernel_for(const DeviceInfo& device, SatKernel requested) {
     if (requested != SatKernel::automatic) return requested;
-    return device.is_gpu ? SatKernel::tiled_gpu : SatKernel::tiled_cpu;
+    return prefers_gpu_distribution(device) ? SatKernel::tiled_gpu : SatKernel::tiled_cpu;
 }
 
 // Compile-time variant: input kind, sample count, depth convention, tile or band size.
@@ -580,6 +582,26 @@ void sat_query_moments(Context& context, const DeviceSat& table, cl_mem rectangl
     launch(queue, kernel, cl::NDRange((count + group - 1) / group * group), cl::NDRange(group), waits, done,
            "clEnqueueNDRangeKernel(sat_query_moments)");
     detail::complete(enqueue, queue, done);
+}
+
+const char* sat_kernel_name(SatKernel kernel) noexcept {
+    switch (kernel) {
+        case SatKernel::automatic: return "automatic";
+        case SatKernel::tiled_gpu: return "tiled_gpu";
+        case SatKernel::tiled_cpu: return "tiled_cpu";
+        case SatKernel::row_per_thread: return "row_per_thread";
+    }
+    return "unknown";
+}
+
+std::optional<SatKernel> parse_sat_kernel(std::string_view name) noexcept {
+    for (SatKernel kernel : {SatKernel::automatic, SatKernel::tiled_gpu, SatKernel::tiled_cpu, SatKernel::row_per_thread})
+        if (name == sat_kernel_name(kernel)) return kernel;
+    return std::nullopt;
+}
+
+SatKernel sat_kernel_for(const Context& context, SatKernel requested) {
+    return resolve_kernel(context.device(), requested);
 }
 
 } // namespace msmcl

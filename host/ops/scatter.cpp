@@ -3,6 +3,7 @@
 #include "ops/scatter_params.hpp"
 #include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/work_distribution.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -306,17 +307,19 @@ void check_moments(int moments) {
 }
 
 /// Work-items per rectified row (a power of two the device allows) and texels per work-item
-/// and chunk of the row. CPU devices: 64 x 8 (measured on PoCL: 8 consecutive texels per
-/// work-item take 40% less CPU time than 1 or 4); GPUs: 128 x 2 (more rows in flight,
-/// neighbouring work-items on neighbouring texels).
+/// and chunk of the row. rows_cpu: 64 x 8 (measured on PoCL: 8 consecutive texels per
+/// work-item take 40% less CPU time than 1 or 4); rows_gpu: 128 x 2 (more rows in flight,
+/// neighbouring work-items on neighbouring texels). automatic: work_distribution.hpp.
 struct RowTiling {
     int group = 64;
     int segment = 8;
 };
 
-RowTiling row_tiling(const DeviceInfo& device) {
+RowTiling row_tiling(const DeviceInfo& device, ScatterKernel kernel) {
     RowTiling tiling;
-    if (device.is_gpu) {
+    const bool gpu_rows = kernel == ScatterKernel::rows_gpu ||
+                          (kernel == ScatterKernel::automatic && detail::prefers_gpu_distribution(device));
+    if (gpu_rows) {
         tiling.group = 128;
         tiling.segment = 2;
     }
@@ -324,10 +327,9 @@ RowTiling row_tiling(const DeviceInfo& device) {
     return tiling;
 }
 
-RowTiling row_tiling(const detail::ContextImpl& impl) { return row_tiling(impl.info); }
-
-cl::Kernel& scatter_kernel(detail::ContextImpl& impl, int moments, const char* name) {
-    return impl.kernel("scatter.cl", detail::scatter_defines(moments, impl.info), name);
+cl::Kernel& scatter_kernel(detail::ContextImpl& impl, int moments, const char* name,
+                           ScatterKernel distribution = ScatterKernel::automatic) {
+    return impl.kernel("scatter.cl", detail::scatter_defines(moments, impl.info, distribution), name);
 }
 
 void check_map_fits(const detail::ContextImpl& impl, const ScatterScene& scene, std::size_t bytes_per_texel) {
@@ -341,11 +343,11 @@ void check_map_fits(const detail::ContextImpl& impl, const ScatterScene& scene, 
 /// Runs scatter_prefilter over all rows.
 void run_prefilter(Context& context, const ScatterScene& scene, cl_mem source, bool filtered, int map_width,
                    int map_height, int map_samples, int moments, int output_mode, cl_mem quantized, cl_mem floats,
-                   const Enqueue& enqueue) {
+                   const Enqueue& enqueue, ScatterKernel distribution = ScatterKernel::automatic) {
     detail::ContextImpl& impl = context.impl();
     const RectificationBounds bounds = rectification_bounds(scene);
     const msm_scatter_params params = detail::make_scatter_params(scene, bounds, map_width, map_height, map_samples, -1.0f);
-    cl::Kernel& kernel = scatter_kernel(impl, moments, "scatter_prefilter");
+    cl::Kernel& kernel = scatter_kernel(impl, moments, "scatter_prefilter", distribution);
     cl::CommandQueue queue = impl.queue_for(enqueue);
     std::vector<cl::Event> waits = detail::wait_list(enqueue);
     // The weights of the prefix sums per column, in double: w_i = exp(-s D i) and
@@ -369,7 +371,7 @@ void run_prefilter(Context& context, const ScatterScene& scene, cl_mem source, b
     detail::set_arg(kernel, 4, weight_buffer());
     detail::set_arg(kernel, 5, quantized);
     detail::set_arg(kernel, 6, floats);
-    const std::size_t group = static_cast<std::size_t>(row_tiling(impl).group);
+    const std::size_t group = static_cast<std::size_t>(row_tiling(impl.info, distribution).group);
     cl::Event done;
     detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(group * scene.rectified_height),
                                              cl::NDRange(group), waits.empty() ? nullptr : &waits, &done),
@@ -459,6 +461,7 @@ cl::Buffer resampling_source(Context& context, const ScatterScene& scene, const 
     filter_options.format = Format::moments128;
     filter_options.sigma = options.filter_sigma;
     filter_options.depth_range = scene.light.depth_range;
+    filter_options.kernel = options.filter_kernel;
     filter(context, DeviceDepth{depth(), shadow_map.width, shadow_map.height, shadow_map.samples}, moments(),
            filter_options);
     return moments;
@@ -492,8 +495,8 @@ std::size_t rectified_texels(const ScatterScene& scene) {
 
 namespace detail {
 
-std::vector<std::string> scatter_defines(int moments, const DeviceInfo& device) {
-    const RowTiling tiling = row_tiling(device);
+std::vector<std::string> scatter_defines(int moments, const DeviceInfo& device, ScatterKernel kernel) {
+    const RowTiling tiling = row_tiling(device, kernel);
     return {"MSM_SCATTER_MOMENTS=" + std::to_string(moments), "MSM_SCATTER_GROUP=" + std::to_string(tiling.group),
             "MSM_SCATTER_SEGMENT=" + std::to_string(tiling.segment)};
 }
@@ -592,7 +595,7 @@ ScatterMap scatter_prefilter(Context& context, const ScatterScene& scene, const 
     const std::size_t texels = rectified_texels(scene);
     cl::Buffer map = device_buffer(impl, texels * 8, "clCreateBuffer(scatter map)");
     run_prefilter(context, scene, source(), options.filtered, shadow_map.width, shadow_map.height, shadow_map.samples,
-                  options.moments, output_quantized, map(), map(), Enqueue{});
+                  options.moments, output_quantized, map(), map(), Enqueue{}, options.kernel);
     ScatterMap result;
     result.moments = options.moments;
     result.width = scene.rectified_width;
@@ -631,7 +634,7 @@ std::vector<float> scatter(Context& context, const ScatterScene& scene, const De
     const cl::Buffer source = resampling_source(context, scene, shadow_map, options);
     cl::Buffer map = device_buffer(impl, rectified_texels(scene) * 8, "clCreateBuffer(scatter map)");
     run_prefilter(context, scene, source(), options.filtered, shadow_map.width, shadow_map.height, shadow_map.samples,
-                  options.moments, output_quantized, map(), map(), Enqueue{});
+                  options.moments, output_quantized, map(), map(), Enqueue{}, options.kernel);
     const cl::Buffer depth = upload(impl, camera_depth.data(), camera_depth.size() * 4, "clCreateBuffer(camera depth)");
     cl::Buffer radiance = device_buffer(impl, camera_depth.size() * 4, "clCreateBuffer(radiance)");
     scatter_evaluate(context, scene, map(), options.moments, depth(), radiance(), options.beta);
@@ -663,7 +666,7 @@ std::vector<float> scatter_rectified_moments(Context& context, const ScatterScen
     cl::Buffer floats = device_buffer(impl, count * 4, "clCreateBuffer(rectified moments)");
     cl::Buffer unused = device_buffer(impl, 4, "clCreateBuffer");
     run_prefilter(context, scene, source(), options.filtered, shadow_map.width, shadow_map.height, shadow_map.samples,
-                  options.moments, prefix_sums ? output_sums : output_resampled, unused(), floats(), Enqueue{});
+                  options.moments, prefix_sums ? output_sums : output_resampled, unused(), floats(), Enqueue{}, options.kernel);
     return read_floats(impl, floats, count);
 }
 
@@ -690,6 +693,21 @@ std::vector<float> decode_scatter_map(const ScatterMap& map) {
         }
     }
     return values;
+}
+
+const char* scatter_kernel_name(ScatterKernel kernel) noexcept {
+    switch (kernel) {
+        case ScatterKernel::automatic: return "automatic";
+        case ScatterKernel::rows_gpu: return "rows_gpu";
+        case ScatterKernel::rows_cpu: return "rows_cpu";
+    }
+    return "unknown";
+}
+
+std::optional<ScatterKernel> parse_scatter_kernel(std::string_view name) noexcept {
+    for (ScatterKernel kernel : {ScatterKernel::automatic, ScatterKernel::rows_gpu, ScatterKernel::rows_cpu})
+        if (name == scatter_kernel_name(kernel)) return kernel;
+    return std::nullopt;
 }
 
 } // namespace msmcl

@@ -15,7 +15,7 @@ cl::Kernel& ContextImpl::kernel(const std::string& source_file, const std::vecto
     // The assembled source is cached per (file, defines): no assembly or hashing per launch.
     const KernelSource& source = kernel_source(source_file, defines);
     std::string options = base_build_options;
-    if (const std::string quirk = device_build_options(info); !quirk.empty()) options += ' ' + quirk;
+    if (const std::string quirk = device_build_options(info, source_file); !quirk.empty()) options += ' ' + quirk;
     {
         const std::lock_guard<std::mutex> lock(mutex_);
         if (!extra_build_options_.empty()) options += ' ' + extra_build_options_;

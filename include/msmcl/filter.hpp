@@ -6,9 +6,19 @@
 #include <msmcl/types.hpp>
 
 #include <array>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace msmcl {
+
+/// "automatic", "fused_paper", "three_pass", "fused_cpu".
+const char* filter_kernel_name(FilterKernel kernel) noexcept;
+std::optional<FilterKernel> parse_filter_kernel(std::string_view name) noexcept;
+/// The kernel a filter call with `requested` runs on the context's device: `automatic`
+/// resolved, an explicit choice returned as is. Throws device_error when the device
+/// cannot run the choice (too few work-items per group or too little local memory).
+FilterKernel filter_kernel_for(const Context& context, FilterKernel requested);
 
 /// The 9 normalized taps w_{-4..4} of the blur as float32 (symmetric; sigma 0 gives
 /// a unit impulse). Throws input_error for a negative or non-finite sigma.

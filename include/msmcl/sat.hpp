@@ -22,6 +22,8 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace msmcl {
@@ -34,6 +36,13 @@ inline constexpr std::uint32_t sat_max_kernel_texels = 0x7fffffffu;
 /// floor((2^32 - 1) / N). Throws input_error for N outside
 /// [sat_min_kernel_texels, sat_max_kernel_texels].
 std::uint32_t sat_scale(std::uint32_t max_kernel_texels);
+
+/// "automatic", "tiled_gpu", "tiled_cpu", "row_per_thread".
+const char* sat_kernel_name(SatKernel kernel) noexcept;
+std::optional<SatKernel> parse_sat_kernel(std::string_view name) noexcept;
+/// The kernel a table build with `requested` runs on the context's device (`automatic`
+/// resolved).
+SatKernel sat_kernel_for(const Context& context, SatKernel requested);
 
 /// Builds the table of a host depth map. Validates like filter(): size, sample count (1, 2,
 /// 4, 8, 16), every depth finite and inside the range (input_error names the first bad

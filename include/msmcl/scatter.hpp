@@ -20,7 +20,9 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace msmcl {
@@ -100,6 +102,20 @@ struct RectificationBounds {
 };
 RectificationBounds rectification_bounds(const ScatterScene& scene);
 
+/// How the prefilter (resampling and prefix sums, one work-group per rectified row) splits
+/// a row. Both give the same bits.
+enum class ScatterKernel {
+    automatic, ///< rows_cpu on devices that report CPU and not GPU, rows_gpu on the others
+               ///< (docs/devices.md)
+    rows_gpu,  ///< 128 work-items per row, 2 neighbouring texels each (neighbouring
+               ///< work-items on neighbouring texels, more rows in flight)
+    rows_cpu,  ///< 64 work-items per row, 8 consecutive texels each (measured on PoCL: 40%
+               ///< less CPU time than 1 or 4)
+};
+/// "automatic", "rows_gpu", "rows_cpu".
+const char* scatter_kernel_name(ScatterKernel kernel) noexcept;
+std::optional<ScatterKernel> parse_scatter_kernel(std::string_view name) noexcept;
+
 struct ScatterOptions {
     int moments = 6;     ///< 4 (msm64 layout) or 6 (two 10:10:10:2 planes)
     bool filtered = true; ///< bilinear samples of a moment shadow map; false: one depth sample
@@ -109,6 +125,10 @@ struct ScatterOptions {
     /// shadow = beta * upper + (1 - beta) * lower bound; negative: adaptive
     /// beta = (1 + dot(towards light, view direction)) / 2 (Peters, GDC Europe 2016).
     float beta = -1.0f;
+    /// The prefilter's distribution of a row over work-items.
+    ScatterKernel kernel = ScatterKernel::automatic;
+    /// The filter kernel of the moments128 map that filtered resampling reads.
+    FilterKernel filter_kernel = FilterKernel::automatic;
 };
 
 /// A prefiltered map: rectified_width x rectified_height texels, 64 bits each.

@@ -61,7 +61,8 @@ enum class FilterKernel {
                  ///< OpenCL compiler vectorizes across work-items, one work-item per texel
                  ///< column of a 128x64 tile whose rows are streamed; nlq formats shift per
                  ///< tile (environment MSMCL_CPU_TILE="WxH" changes the tile). `automatic`
-                 ///< picks it on CPU devices, fused_paper on the others
+                 ///< picks it on devices that report CPU and not GPU, fused_paper on the
+                 ///< others (docs/devices.md)
 };
 
 struct FilterOptions {
@@ -130,7 +131,8 @@ struct NlqTexel {
 /// twice (totals, then the scan) and write the table once; the carries in between are
 /// prefix sums over 1/16 to 1/32 of the texels.
 enum class SatKernel {
-    automatic,      ///< tiled_gpu on GPUs, tiled_cpu elsewhere
+    automatic,      ///< tiled_cpu on devices that report CPU and not GPU, tiled_gpu on the
+                    ///< others (docs/devices.md)
     tiled_gpu,      ///< 32x32 tiles, 32 work-items each, through 4 KiB of local memory one strip of
                     ///< 8 rows at a time: work-items walk the strip's columns, then one row and
                     ///< channel each (one add per texel and direction, conflict-free rotated rows)
