@@ -55,6 +55,7 @@ static inline msm_moments6 moments_from_array(const float* v) {
 static inline void write_moments(__global uint* quantized, __global float* moments_out, int output_mode,
                                  msm_scatter_params p, size_t texel, const float* v) {
     if (output_mode != MSM_SCATTER_OUTPUT_QUANTIZED) {
+        #pragma unroll
         for (int k = 0; k < MSM_K; ++k) moments_out[texel * MSM_K + k] = v[k];
         return;
     }
@@ -81,14 +82,18 @@ void scatter_prefilter(__global const float* source, int filtered, int output_mo
     const float sin_phi = sin(phi);
     const size_t row_start = (size_t)row * (size_t)p.rect_width;
     const int chunk = MSM_SCATTER_GROUP * MSM_SCATTER_SEGMENT;
+    // Loops over the per-work-item arrays are unrolled: the arrays stay in registers on GPUs.
     float carry[MSM_K];
+    #pragma unroll
     for (int k = 0; k < MSM_K; ++k) carry[k] = 0.0f;
 
     for (int start = 0; start < p.rect_width; start += chunk) {
         // Resample this work-item's texels; running weighted sums within the segment.
         float running[MSM_SCATTER_SEGMENT][MSM_K];
         float total[MSM_K];
+        #pragma unroll
         for (int k = 0; k < MSM_K; ++k) total[k] = 0.0f;
+        #pragma unroll
         for (int s = 0; s < MSM_SCATTER_SEGMENT; ++s) {
             const int i = start + lid * MSM_SCATTER_SEGMENT + s;
             if (i < p.rect_width) {
@@ -99,18 +104,22 @@ void scatter_prefilter(__global const float* source, int filtered, int output_mo
                 moments_to_array(m, v);
                 if (output_mode == MSM_SCATTER_OUTPUT_RESAMPLED) write_moments(quantized, moments_out, output_mode, p, row_start + i, v);
                 const float w = weights[i];
+                #pragma unroll
                 for (int k = 0; k < MSM_K; ++k) total[k] += w * v[k];
             }
+            #pragma unroll
             for (int k = 0; k < MSM_K; ++k) running[s][k] = total[k];
         }
         if (output_mode == MSM_SCATTER_OUTPUT_RESAMPLED) continue;
 
         // Inclusive scan of the segment totals over the work-group (Hillis-Steele, two halves).
+        #pragma unroll
         for (int k = 0; k < MSM_K; ++k) scan[k * MSM_SCATTER_GROUP + lid] = total[k];
         barrier(CLK_LOCAL_MEM_FENCE);
         int from = 0;
         for (int offset = 1; offset < MSM_SCATTER_GROUP; offset <<= 1) {
             const int to = MSM_K * MSM_SCATTER_GROUP - from;
+            #pragma unroll
             for (int k = 0; k < MSM_K; ++k) {
                 float x = scan[from + k * MSM_SCATTER_GROUP + lid];
                 if (lid >= offset) x += scan[from + k * MSM_SCATTER_GROUP + lid - offset];
@@ -122,17 +131,21 @@ void scatter_prefilter(__global const float* source, int filtered, int output_mo
 
         // Prefix sums: carry + earlier work-items + own running sum, normalized.
         float before[MSM_K];
+        #pragma unroll
         for (int k = 0; k < MSM_K; ++k)
             before[k] = carry[k] + (lid > 0 ? scan[from + k * MSM_SCATTER_GROUP + lid - 1] : 0.0f);
+        #pragma unroll
         for (int s = 0; s < MSM_SCATTER_SEGMENT; ++s) {
             const int i = start + lid * MSM_SCATTER_SEGMENT + s;
             if (i < p.rect_width) {
                 const float inv_weight_sum = weights[p.rect_width + i];
                 float v[MSM_K];
+                #pragma unroll
                 for (int k = 0; k < MSM_K; ++k) v[k] = (before[k] + running[s][k]) * inv_weight_sum;
                 write_moments(quantized, moments_out, output_mode, p, row_start + i, v);
             }
         }
+        #pragma unroll
         for (int k = 0; k < MSM_K; ++k) carry[k] += scan[from + k * MSM_SCATTER_GROUP + MSM_SCATTER_GROUP - 1];
         // The scan buffer is reused by the next chunk.
         barrier(CLK_LOCAL_MEM_FENCE);

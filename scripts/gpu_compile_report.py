@@ -218,12 +218,16 @@ def layers_of(variant):
     return 0
 
 
-def row_key(variant, kernel):
-    """Report rows: a kernel, with translucent variants of 1 and 8 layers apart."""
+def row_key(variant, kernel, gpu_kernels):
+    """Report rows: a kernel, with translucent variants of 1 and 8 layers apart, and the
+    CPU variants of a GPU-path kernel (scatter's CPU row tiling) apart."""
+    key = kernel["name"]
     layers = layers_of(variant)
     if layers and variant["file"] != "sat_translucent.cl":
-        return f"{kernel['name']} ({layers} layer{'s' if layers > 1 else ''})"
-    return kernel["name"]
+        key += f" ({layers} layer{'s' if layers > 1 else ''})"
+    if not kernel["gpu_path"] and kernel["name"] in gpu_kernels:
+        key += " (CPU variant)"
+    return key
 
 
 def compile_all(tools, variants, directory, jobs):
@@ -268,9 +272,10 @@ def build_rows(variants, results):
     """Per report row and target: the worst figures over the row's variants."""
     rows = {}
     targets = list(AMD_TARGETS) + INTEL_DEVICES + ["nvptx"]
+    gpu_kernels = {k["name"] for v in variants for k in v["kernels"] if k["gpu_path"]}
     for index, variant in enumerate(variants):
         for kernel in variant["kernels"]:
-            key = row_key(variant, kernel)
+            key = row_key(variant, kernel, gpu_kernels)
             row = rows.setdefault(key, {"kernel": kernel["name"], "file": variant["file"],
                                         "gpu_path": kernel["gpu_path"], "layers": layers_of(variant),
                                         "variants": 0, "targets": {}})
@@ -349,6 +354,60 @@ def markdown(rows, elapsed, jobs, variant_count):
     lines.append("")
     lines.append(f"Compiled in {elapsed:.0f} s with {jobs} parallel jobs.")
     return "\n".join(lines) + "\n"
+
+
+# --- Predictions ---------------------------------------------------------------------------
+# Compulsory bytes per kernel on a reference workload (every input read once, every output
+# written once; caches assumed to catch the guard bands and neighbouring texel fetches):
+# a 2048^2 depth map with S = 4 samples into nlq64 (8 bytes per texel), the SAT of the same
+# map (16 bytes per texel), 1920x1080 receivers shaded from it, single scattering with a
+# 1024^2 moments128 light map, a 1024^2 rectified map and 1920x1080 pixels.
+MAP = 2048 * 2048
+RECEIVERS = 1920 * 1080
+RECTIFIED = 1024 * 1024
+PREDICTED_KERNELS = [
+    ("filter_fused_gpu", MAP * (4 * 4 + 8), "depths (S=4) in, nlq64 out"),
+    ("filter_resolve", MAP * (4 * 4 + 16), "depths in, float4 moments out"),
+    ("filter_horizontal", MAP * (16 + 16), "float4 moments in and out"),
+    ("filter_vertical_quantize", MAP * (16 + 8), "float4 moments in, nlq64 out"),
+    ("sat_tile_totals", MAP * (4 * 4 + 1), "depths in, carries out (1/16 of the table)"),
+    ("sat_tile_scan", MAP * (4 * 4 + 1 + 16), "depths and carries in, table out"),
+    ("sat_column_carries", MAP * 1, "column totals in place (1/32 of the table, both ways)"),
+    ("shade", RECEIVERS * 16 + MAP * 8, "receivers (u, v, z) in, intensity out, the map once"),
+    ("sat_soft_shade", RECEIVERS * 16 + MAP * 16, "receivers in, intensity out, the table once"),
+    ("scatter_prefilter", RECTIFIED * (16 + 8), "moments128 map once, 64-bit texels out"),
+    ("scatter_evaluate", RECEIVERS * (4 + 4) + RECTIFIED * 8, "camera depth in, radiance out, the map once"),
+]
+# (GPU, report target whose occupancy applies, bytes per second). NVPTX has no occupancy
+# without ptxas: full occupancy assumed.
+PREDICTION_GPUS = [
+    ("AMD Instinct MI210 (gfx90a)", "gfx90a", 1.6e12),
+    ("AMD Radeon RX 6800 XT (gfx1030)", "gfx1030", 512e9),
+    ("NVIDIA H200 (sm_90, PTX for sm_80)", None, 4.8e12),
+]
+# Rule of thumb, not a measurement: a memory-bound kernel reaches peak bandwidth from this
+# many waves per SIMD on, and proportionally less below.
+SATURATING_WAVES = 4
+
+
+def predictions(rows):
+    lines = ["Predicted times (**predictions**, not measurements): compulsory bytes / (peak bandwidth x "
+             f"min(1, waves per SIMD / {SATURATING_WAVES})), worst variant's occupancy", ""]
+    lines.append("| kernel | bytes moved | MB | " + " | ".join(name for name, _, _ in PREDICTION_GPUS) + " |")
+    lines.append("| --- | --- | ---: |" + " ---: |" * len(PREDICTION_GPUS))
+    table = []
+    for kernel, bytes_moved, what in PREDICTED_KERNELS:
+        cells = []
+        entry = {"kernel": kernel, "bytes": bytes_moved, "what": what, "ms": {}}
+        for name, target, bandwidth in PREDICTION_GPUS:
+            waves = rows.get(kernel, {}).get("targets", {}).get(target, {}).get("waves_per_simd") if target else None
+            share = 1.0 if waves is None else min(1.0, waves / SATURATING_WAVES)
+            ms = bytes_moved / (bandwidth * share) * 1e3 if share > 0 else float("inf")
+            entry["ms"][name] = round(ms, 4)
+            cells.append(f"{ms:.3f} ms" + ("" if waves is None else f" ({waves:g} w)"))
+        table.append(entry)
+        lines.append(f"| `{kernel}` | {what} | {bytes_moved / 1e6:.1f} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n", table
 
 
 # --- Budgets -------------------------------------------------------------------------------
@@ -431,6 +490,8 @@ def main():
     elapsed = time.time() - start
 
     report = markdown(rows, elapsed, args.jobs, len(variants))
+    predicted_text, predicted = predictions(rows)
+    report += "\n" + predicted_text
     breaches = check_budgets(rows, failures)
     if args.markdown:
         with open(args.markdown, "w") as out:
@@ -439,7 +500,8 @@ def main():
         with open(args.json, "w") as out:
             json.dump({"variants": len(variants), "seconds": round(elapsed, 1), "jobs": args.jobs,
                        "compile_seconds": {t: round(v, 1) for t, v in seconds.items()},
-                       "failures": failures, "budget_breaches": breaches, "kernels": rows}, out, indent=1)
+                       "failures": failures, "budget_breaches": breaches, "kernels": rows,
+                       "predictions": predicted}, out, indent=1)
     print(report)
     for failure in failures:
         print("compile failure: " + failure, file=sys.stderr)

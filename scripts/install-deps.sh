@@ -11,6 +11,8 @@ packages=(
   oclgrind
   mesa-vulkan-drivers libvulkan-dev spirv-tools
   strace
+  # Sanitizer builds and libFuzzer (scripts/ci-sanitize.sh, scripts/ci-fuzz.sh): clang-15 below.
+  libclang-common-15-dev
   assimp-testmodels
   # Offline GPU compiles (scripts/gpu_compile_report.py): AMDGPU and NVPTX through clang and
   # libclc; libllvm14 and libclang-cpp14 for Intel's ocloc, unpacked below.

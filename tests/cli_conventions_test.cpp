@@ -112,9 +112,21 @@ TEST_F(CliConventions, VerbosePrintsATimingLinePerStageAndChangesNoByte) {
                               "write"})
         EXPECT_NE(shade_log.find(std::string("msmcl: ") + stage + ": "), std::string::npos) << stage << "\n" << shade_log;
 
+    ASSERT_EQ(cli("sat " + depth + " " + q("sat_quiet.exr")), 0) << err();
     ASSERT_EQ(cli("sat " + depth + " " + q("sat.exr") + " --verbose"), 0) << err();
-    for (const char* stage : {"read", "device setup", "program", "table build", "write"})
-        EXPECT_NE(err().find(std::string("msmcl: ") + stage), std::string::npos) << stage << "\n" << err();
+    const std::string sat_log = err();
+    EXPECT_EQ(msmcl::io::read_whole_file(path("sat.exr")), msmcl::io::read_whole_file(path("sat_quiet.exr")));
+    for (const char* stage : {"read", "device setup", "program", "upload", "kernel", "download", "write"})
+        EXPECT_NE(sat_log.find(std::string("msmcl: ") + stage + ": "), std::string::npos) << stage << "\n" << sat_log;
+
+    ASSERT_EQ(cli("soft " + q("sat.exr") + " " + view + " " + q("s_quiet.exr") + " --light-size 8"), 0) << err();
+    ASSERT_EQ(cli("soft " + q("sat.exr") + " " + view + " " + q("s_verbose.exr") + " --light-size 8 --verbose"), 0)
+        << err();
+    const std::string soft_log = err();
+    EXPECT_EQ(msmcl::io::read_whole_file(path("s_verbose.exr")), msmcl::io::read_whole_file(path("s_quiet.exr")));
+    for (const char* stage : {"read table", "read receivers", "device setup", "program", "upload", "kernel",
+                              "download", "write"})
+        EXPECT_NE(soft_log.find(std::string("msmcl: ") + stage + ": "), std::string::npos) << stage << "\n" << soft_log;
 }
 
 TEST_F(CliConventions, ProgressOnlyOnATerminal) {

@@ -400,6 +400,30 @@ TEST_F(IoTest, ImageSizesAreCappedAndCheckedAgainstTheFile) {
     const std::string claims = patch_window("claims.exr", 15999, 15999);
     expect_input_error(depth_of(claims), claims, "the header claims 16000 x 16000 texels (1024000000 bytes of data)");
     expect_input_error([&] { msmcl::io::read_exr(claims); }, claims, "more than the");
+    // An attribute whose size field claims 2 GB: refused before OpenEXR would allocate it.
+    std::string claims_size = small;
+    const std::int32_t huge_size = 0x7fffffff;
+    std::memcpy(&claims_size[box_at - 4], &huge_size, 4);
+    std::ofstream(path("attribute.exr"), std::ios::binary) << claims_size;
+    expect_input_error(depth_of(path("attribute.exr")), path("attribute.exr"),
+                       "attribute dataWindow (box2i) claims 2147483647 bytes");
+    // Tiles of 1 x 1 over 8192 x 8192: refused before OpenEXR sizes its tile tables.
+    ExrImage tiled = image_with(64, 64, {float_channel("Z", 64 * 64, 0.5f)});
+    tiled.tiled = true;
+    msmcl::io::write_exr(path("tiled.exr"), tiled);
+    std::string tiles = bytes_of(path("tiled.exr"));
+    const std::string tiles_key("tiles\0tiledesc\0", 15);
+    const std::size_t tiles_at = tiles.find(tiles_key) + tiles_key.size() + 4;
+    const std::size_t window_at = tiles.find(key) + key.size() + 4;
+    ASSERT_LT(tiles_at, tiles.size());
+    const std::uint32_t one = 1;
+    const std::int32_t last = 8191;
+    std::memcpy(&tiles[tiles_at], &one, 4);
+    std::memcpy(&tiles[tiles_at + 4], &one, 4);
+    std::memcpy(&tiles[window_at + 8], &last, 4);
+    std::memcpy(&tiles[window_at + 12], &last, 4);
+    std::ofstream(path("tiles.exr"), std::ios::binary) << tiles;
+    expect_input_error(depth_of(path("tiles.exr")), path("tiles.exr"), "the header claims 8192 x 8192 texels");
     // The limits are the environment's when set.
     msmcl::io::write_depth_exr(path("four.exr"), random_depth(16, 16, 4, DepthRange::zero_one));
     ASSERT_EQ(::setenv("MSMCL_MAX_TEXELS", "255", 1), 0);

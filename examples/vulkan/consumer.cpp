@@ -46,8 +46,10 @@
 #include <vector>
 
 // SPIR-V compiled at build time (glslangValidator --vn): shade_<language>_<format>, soft_*, scatter_*.
-#include "scatter_glsl.h"
-#include "scatter_hlsl.h"
+#include "scatter4_glsl.h"
+#include "scatter4_hlsl.h"
+#include "scatter6_glsl.h"
+#include "scatter6_hlsl.h"
 #include "shade_glsl_0.h"
 #include "shade_glsl_1.h"
 #include "shade_glsl_2.h"
@@ -324,7 +326,8 @@ void run_soft(VulkanCompute& vulkan, const Language& language, const SoftArgumen
     msmcl::io::write_intensity_exr(a.output, grid.width, grid.height, shadow);
 }
 
-// ---- scatter: the six-moment evaluation from the two A2B10G10R10 layers.
+// ---- scatter: the six-moment evaluation from the two A2B10G10R10 layers (or four moments
+// from one R16G16B16A16_UNORM image).
 struct ScatterArguments {
     std::string scene, map, camera_depth, output;
     std::string beta = "adaptive";
@@ -346,8 +349,12 @@ void run_scatter(VulkanCompute& vulkan, const Language& language, const ScatterA
     }
     const msmcl::ScatterScene scene = msmcl::load_scatter_scene(a.scene);
     const msmcl::io::GpuImage image = msmcl::io::read_ktx2(a.map);
-    if (image.format != msmcl::io::GpuFormat::a2b10g10r10_unorm_pack32 || !image.array || image.layers != 2)
-        throw msmcl::input_error(a.map + ": not a six-moment scattering map (2 layers of a2b10g10r10_unorm_pack32)");
+    const bool six = image.format == msmcl::io::GpuFormat::a2b10g10r10_unorm_pack32 && image.array && image.layers == 2;
+    const bool four = image.format == msmcl::io::GpuFormat::r16g16b16a16_unorm && !image.array &&
+                      image.find_metadata("msmcl:format") == std::optional<std::string>("scatter4");
+    if (!six && !four)
+        throw msmcl::input_error(a.map + ": not a scattering map (msmcl scatter --map: 2 layers of "
+                                         "a2b10g10r10_unorm_pack32, or r16g16b16a16_unorm with msmcl:format scatter4)");
     if (image.width != scene.rectified_width || image.height != scene.rectified_height)
         throw msmcl::input_error(a.map + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                                  ", the scene's rectified map is " + std::to_string(scene.rectified_width) + "x" +
@@ -377,16 +384,18 @@ void run_scatter(VulkanCompute& vulkan, const Language& language, const ScatterA
     // Bilinear filtering, clamped along r; along phi the rows wrap around for a full circle.
     const VkFormat vk_format = vk_format_of(image);
     if (!vulkan.supports_sampling(vk_format, true))
-        throw msmcl::error("the Vulkan device cannot filter a2b10g10r10_unorm_pack32 images linearly");
-    Image map = vulkan.upload_image(vk_format, image.width, image.height, 2, image.bytes);
+        throw msmcl::error("the Vulkan device cannot filter " + std::string(msmcl::io::gpu_format_info(image.format).name) +
+                           " images linearly");
+    Image map = vulkan.upload_image(vk_format, image.width, image.height, image.layers, image.bytes);
     const VkSampler linear = vulkan.create_sampler(
         VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
         bounds.full_circle ? VK_SAMPLER_ADDRESS_MODE_REPEAT : VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
     std::vector<Binding> bindings;
     bind_texture(bindings, language, 0, map.view, linear);
     const ScatterPush push{image.width, image.height, static_cast<std::uint32_t>(rays.size())};
-    static const std::vector<std::uint32_t> glsl = words(scatter_glsl), hlsl = words(scatter_hlsl);
-    const std::vector<float> radiance = run_pass(vulkan, language.hlsl ? hlsl : glsl, language, bindings, linear,
+    static const std::vector<std::uint32_t> glsl[2] = {words(scatter4_glsl), words(scatter6_glsl)};
+    static const std::vector<std::uint32_t> hlsl[2] = {words(scatter4_hlsl), words(scatter6_hlsl)};
+    const std::vector<float> radiance = run_pass(vulkan, (language.hlsl ? hlsl : glsl)[six ? 1 : 0], language, bindings, linear,
                                                  rays.data(), rays.size() * sizeof(RayRecord), &push, sizeof push,
                                                  push.count);
     vulkan.destroy(map);
@@ -394,7 +403,7 @@ void run_scatter(VulkanCompute& vulkan, const Language& language, const ScatterA
     out.width = scene.camera.width;
     out.height = scene.camera.height;
     out.channels = {{"Y", msmcl::io::SampleType::float32, radiance, {}}};
-    out.attributes = {{"msmcl:scatterMethod", std::string("vulkan_prefiltered_6")}};
+    out.attributes = {{"msmcl:scatterMethod", std::string(six ? "vulkan_prefiltered_6" : "vulkan_prefiltered_4")}};
     msmcl::io::write_exr(a.output, out);
 }
 
@@ -451,6 +460,8 @@ int report(const std::string& message, int code) {
 int main(int argc, char** argv) {
     CLI::App app{"msmcl-vulkan: msmcl's KTX2 textures sampled by a headless Vulkan 1.2 compute consumer"};
     app.require_subcommand(1);
+    // --hlsl and --device also after the subcommand's arguments.
+    app.fallthrough();
     Language language;
     int device_index = -1;
     app.add_flag("--hlsl", language.hlsl, "run the HLSL route (shaders/msm.hlsl) instead of GLSL");
@@ -488,7 +499,7 @@ int main(int argc, char** argv) {
 
     ScatterArguments scatter;
     CLI::App* scatter_command =
-        app.add_subcommand("scatter", "scene JSON + six-moment map KTX2 + camera depth EXR -> radiance EXR (Y)");
+        app.add_subcommand("scatter", "scene JSON + prefiltered map KTX2 + camera depth EXR -> radiance EXR (Y)");
     scatter_command->add_option("scene", scatter.scene, "scene JSON (msmcl scatter's)")->required();
     scatter_command->add_option("map", scatter.map, "prefiltered map KTX2 (msmcl scatter --map)")->required();
     scatter_command->add_option("camera_depth", scatter.camera_depth, "camera depth EXR (Z)")->required();

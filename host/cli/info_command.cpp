@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -239,10 +240,17 @@ json describe_gpu_file(const std::string& path, Container container) {
         info["kind"] = "summed-area table";
         info["format"] = "sat";
         if (const std::optional<std::string> n = image.find_metadata("msmcl:maxKernelTexels")) {
-            SatTable table;
-            table.max_kernel_texels = static_cast<std::uint32_t>(std::stoul(*n));
-            table.scale = sat_scale(table.max_kernel_texels);
-            info.update(sat_fields(table));
+            char* end = nullptr;
+            const unsigned long long value = std::strtoull(n->c_str(), &end, 10);
+            if (n->empty() || end != n->c_str() + n->size() || value < sat_min_kernel_texels ||
+                value > sat_max_kernel_texels) {
+                info["problem"] = "key msmcl:maxKernelTexels is '" + *n + "', not a kernel size N";
+            } else {
+                SatTable table;
+                table.max_kernel_texels = static_cast<std::uint32_t>(value);
+                table.scale = sat_scale(table.max_kernel_texels);
+                info.update(sat_fields(table));
+            }
         } else {
             info["problem"] = "records no largest kernel N (DDS keeps none)";
         }

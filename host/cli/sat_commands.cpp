@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 
 namespace msmcl::cli {
 namespace {
@@ -21,6 +22,85 @@ namespace {
 // Library input errors do not know the file; put it in front.
 [[noreturn]] void rethrow_with_file(const std::string& path, const input_error& e) {
     throw input_error(path + ": " + e.what());
+}
+
+/// build_sat() split into the stages --verbose reports after "program": the upload, the
+/// kernels, the download. Same words as build_sat(context, depth, layers, options).
+SatTable build_sat_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
+                             const SatOptions& options) {
+    const DepthImage& depth = layered.depth;
+    const std::size_t layer_count = layered.layers.size();
+    std::vector<float> layer_depth, layer_opacity;
+    for (const TranslucentLayer& layer : layered.layers) {
+        layer_depth.insert(layer_depth.end(), layer.depth.begin(), layer.depth.end());
+        layer_opacity.insert(layer_opacity.end(), layer.opacity.begin(), layer.opacity.end());
+    }
+    std::unique_ptr<DeviceBuffer> depth_buffer, layer_depth_buffer, layer_opacity_buffer;
+    stages.run("upload", [&] {
+        depth_buffer = std::make_unique<DeviceBuffer>(context, depth.depth.size() * sizeof(float), depth.depth.data());
+        if (layer_count > 0) {
+            layer_depth_buffer =
+                std::make_unique<DeviceBuffer>(context, layer_depth.size() * sizeof(float), layer_depth.data());
+            layer_opacity_buffer =
+                std::make_unique<DeviceBuffer>(context, layer_opacity.size() * sizeof(float), layer_opacity.data());
+        }
+        context.finish();
+    });
+    SatTable table;
+    table.width = depth.width;
+    table.height = depth.height;
+    table.max_kernel_texels = options.max_kernel_texels;
+    table.scale = sat_scale(options.max_kernel_texels);
+    table.words.resize(4 * static_cast<std::size_t>(depth.width) * depth.height);
+    DeviceBuffer table_buffer(context, table.words.size() * sizeof(std::uint32_t));
+    stages.run("kernel", [&] {
+        const DeviceDepth device_depth{depth_buffer->get(), depth.width, depth.height, depth.samples};
+        DeviceLayers device_layers;
+        if (layer_count > 0)
+            device_layers = {layer_depth_buffer->get(), layer_opacity_buffer->get(), static_cast<int>(layer_count)};
+        build_sat(context, device_depth, device_layers, table_buffer.get(), options);
+        context.finish();
+    });
+    stages.run("download", [&] { table_buffer.read(context, table.words.data()); });
+    return table;
+}
+
+/// soft_shade() split into stages: the program (a warm-up on one receiver), the upload, the
+/// kernel, the download. Same intensities as soft_shade(context, table, receivers, options).
+std::vector<float> soft_shade_in_stages(Stages& stages, Context& context, const SatTable& table,
+                                        const Receivers& receivers, const SoftShadowOptions& options) {
+    stages.run("program", [&] {
+        const std::size_t built = context.programs_built();
+        Receivers one;
+        one.u = {0.5f};
+        one.v = {0.5f};
+        one.z = {options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f};
+        soft_shade(context, table, one, options);
+        const std::size_t now = context.programs_built() - built;
+        stages.note((now == 0 ? std::string("cache hit") : std::to_string(now) + " programs built") +
+                    ", warm-up on one receiver");
+    });
+    const std::size_t count = receivers.size();
+    std::vector<float> uvz;
+    uvz.reserve(3 * count);
+    for (const std::vector<float>* plane : {&receivers.u, &receivers.v, &receivers.z})
+        uvz.insert(uvz.end(), plane->begin(), plane->end());
+    std::unique_ptr<DeviceBuffer> table_buffer, uvz_buffer;
+    stages.run("upload", [&] {
+        table_buffer =
+            std::make_unique<DeviceBuffer>(context, table.words.size() * sizeof(std::uint32_t), table.words.data());
+        uvz_buffer = std::make_unique<DeviceBuffer>(context, uvz.size() * sizeof(float), uvz.data());
+        context.finish();
+    });
+    std::vector<float> intensity(count);
+    DeviceBuffer intensity_buffer(context, count * sizeof(float));
+    stages.run("kernel", [&] {
+        const DeviceSat device_table{table_buffer->get(), table.width, table.height, table.max_kernel_texels};
+        soft_shade(context, device_table, uvz_buffer->get(), count, intensity_buffer.get(), options);
+        context.finish();
+    });
+    stages.run("download", [&] { intensity_buffer.read(context, intensity.data()); });
+    return intensity;
 }
 
 } // namespace
@@ -101,7 +181,7 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
     options.depth_range = parse_depth_range_option(arguments.depth_range);
     const Container container = output_container(arguments.out_container, arguments.output);
 
-    Stages stages(global.verbose, global.verbose ? 5 : 4);
+    Stages stages(global.verbose, global.verbose ? 7 : 4);
     const std::optional<SatKernel> kernel = parse_sat_kernel(arguments.kernel);
     if (!kernel)
         throw usage_error("unknown --kernel '" + arguments.kernel +
@@ -126,8 +206,10 @@ void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
         });
     SatTable table;
     try {
-        table = stages.run("table build (upload, kernels, download)",
-                           [&] { return build_sat(context, depth, layered.layers, options); });
+        if (stages.verbose())
+            table = build_sat_in_stages(stages, context, layered, options);
+        else
+            table = stages.run("table build", [&] { return build_sat(context, depth, layered.layers, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.input, e);
     }
@@ -158,7 +240,7 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
 
     // Read the table (EXR, KTX2 or DDS) and the receivers; limits that depend on the table's
     // N are checked here.
-    Stages stages(global.verbose, 5);
+    Stages stages(global.verbose, global.verbose ? 8 : 5);
     const io::SatFile table = stages.run("read table", [&] { return read_sat_file(arguments.table, max_kernel); });
     const io::ReceiverGrid receivers =
         stages.run("read receivers", [&] { return io::read_receivers_exr(arguments.receivers); });
@@ -174,8 +256,11 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> intensity;
     try {
-        intensity = stages.run("soft shadows (program, upload, kernel, download)",
-                               [&] { return soft_shade(context, table.table, receivers.points, options); });
+        if (stages.verbose())
+            intensity = soft_shade_in_stages(stages, context, table.table, receivers.points, options);
+        else
+            intensity = stages.run("soft shadows",
+                                   [&] { return soft_shade(context, table.table, receivers.points, options); });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.receivers, e);
     }

@@ -18,6 +18,7 @@
 #include <ImfPartType.h>
 #include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
+#include <ImfTileDescription.h>
 #include <ImfTiledOutputFile.h>
 #include <ImfVersion.h>
 #include <Iex.h>
@@ -121,6 +122,40 @@ private:
     std::size_t position_ = 0;
 };
 
+/// Walks the attributes of the header after the magic number and version, as OpenEXR will
+/// read them, and refuses a size field larger than what is left of the file: OpenEXR
+/// allocates an attribute of unknown type by its size before reading it (a 500-byte file
+/// could ask for 2 GB). Multi-part and deep files are refused: msmcl reads single-part
+/// scanline and tiled images.
+void check_header_attributes(const std::string& path, const std::string& bytes) {
+    if (bytes.size() < 8) fail(path, "corrupt or truncated OpenEXR file: no version field");
+    const unsigned flags = static_cast<unsigned char>(bytes[5]);
+    if (flags & 0x10) fail(path, "multi-part OpenEXR files are not supported");
+    if (flags & 0x08) fail(path, "deep OpenEXR images are not supported");
+    std::size_t at = 8;
+    const auto text = [&](const char* what) {
+        const std::size_t end = bytes.find('\0', at);
+        if (end == std::string::npos || end - at > 255)
+            fail(path, std::string("corrupt or truncated OpenEXR file: unterminated attribute ") + what);
+        std::string value = bytes.substr(at, end - at);
+        at = end + 1;
+        return value;
+    };
+    for (;;) {
+        const std::string name = text("name");
+        if (name.empty()) return; // the end of the header
+        const std::string type = text("type");
+        if (bytes.size() - at < 4) fail(path, "corrupt or truncated OpenEXR file: attribute " + name + " is cut short");
+        std::int32_t size = 0;
+        std::memcpy(&size, bytes.data() + at, 4);
+        at += 4;
+        if (size < 0 || static_cast<std::uint64_t>(size) > bytes.size() - at)
+            fail(path, "corrupt or truncated OpenEXR file: attribute " + name + " (" + type + ") claims " + std::to_string(size) +
+                           " bytes, " + std::to_string(bytes.size() - at) + " are left in the file");
+        at += static_cast<std::size_t>(size);
+    }
+}
+
 /// An opened EXR file whose header passed the checks every msmcl reader needs: a real
 /// OpenEXR file, not deep, a data window that is neither empty nor absurd, and no
 /// subsampled channels. OpenEXR's exceptions become input_error naming the file.
@@ -133,10 +168,12 @@ public:
         if (bytes.size() < 4 || !Imf::isImfMagic(bytes.data())) fail(path, "not an OpenEXR file");
 
         // Check the first header alone before OpenEXR sizes its tables by the data window.
+        check_header_attributes(path, bytes);
         stream_ = std::make_unique<MemoryInputStream>(path, std::move(bytes));
         Imath::Box2i window;
         std::uint64_t stored_bytes_per_texel = 0, decoded_bytes_per_texel = 0;
         Imf::Compression compression = Imf::NO_COMPRESSION;
+        std::uint64_t tile_width = 0, tile_height = 0;
         try {
             char magic_and_version[8];
             stream_->read(magic_and_version, 8);
@@ -153,6 +190,11 @@ public:
                 decoded_bytes_per_texel += 4;
             }
             compression = first_header.compression();
+            if (first_header.hasTileDescription()) {
+                const Imf::TileDescription& tiles = first_header.tileDescription();
+                tile_width = tiles.xSize;
+                tile_height = tiles.ySize;
+            }
         } catch (const std::exception& e) {
             fail(path, openexr_problem(path, e));
         }
@@ -167,6 +209,20 @@ public:
         // allocates its line buffers or msmcl its channels.
         check_image_size(path, static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height),
                          stored_bytes_per_texel, decoded_bytes_per_texel, file_bytes, max_expansion(compression));
+        // Tiles: OpenEXR allocates a buffer per tile and an offset per tile. A tile larger
+        // than the image, or more tiles than the file has room for offsets (8 bytes each),
+        // is a damaged header.
+        if (tile_width != 0 || tile_height != 0) {
+            if (tile_width == 0 || tile_height == 0 || tile_width > static_cast<std::uint64_t>(width) + 64 ||
+                tile_height > static_cast<std::uint64_t>(height) + 64)
+                fail(path, "tiles of " + std::to_string(tile_width) + " x " + std::to_string(tile_height) +
+                               " do not fit a data window of " + std::to_string(width) + " x " + std::to_string(height));
+            const std::uint64_t tiles = ((static_cast<std::uint64_t>(width) + tile_width - 1) / tile_width) *
+                                        ((static_cast<std::uint64_t>(height) + tile_height - 1) / tile_height);
+            if (tiles > file_bytes / 8)
+                fail(path, "the header claims " + std::to_string(tiles) + " tiles, more than the " +
+                               std::to_string(file_bytes) + " bytes of the file can hold offsets for");
+        }
         width_ = static_cast<int>(width);
         height_ = static_cast<int>(height);
 

@@ -133,8 +133,9 @@ struct NlqTexel {
 enum class SatKernel {
     automatic,      ///< tiled_cpu on devices that report CPU and not GPU, tiled_gpu on the
                     ///< others (docs/devices.md)
-    tiled_gpu,      ///< 32x32 tiles in local memory; work-items walk tile columns, then tile rows
-                    ///< (one add per texel and direction, conflict-free padded rows)
+    tiled_gpu,      ///< 32x32 tiles, 32 work-items each, through 4 KiB of local memory one strip of
+                    ///< 8 rows at a time: work-items walk the strip's columns, then one row and
+                    ///< channel each (one add per texel and direction, conflict-free rotated rows)
     tiled_cpu,      ///< bands of 32 full rows, one work-item each, 16 columns at a time in 16-lane
                     ///< vectors: column walks, then four shuffle-and-add steps across the lanes
                     ///< (what PoCL's CPU device runs well)

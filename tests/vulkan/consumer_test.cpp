@@ -1,8 +1,9 @@
 // msmcl-vulkan (examples/vulkan) against msmcl's own commands: KTX2 textures uploaded into
 // VkImages of the README's formats and sampled by shaders/msm.glsl and shaders/msm.hlsl on
 // a Vulkan device (lavapipe in CI), compared with `msmcl shade`, `msmcl soft` and
-// `msmcl scatter` (OpenCL, PoCL in CI) on the same inputs: every format, every lookup, both
-// shading languages, the summed-area table and the six-moment scattering map.
+// `msmcl scatter` (OpenCL, PoCL in CI) on the same inputs (shade and soft read the very same
+// KTX2 files): every format, every lookup, both shading languages, the summed-area table
+// and the prefiltered scattering maps.
 //
 // Inputs: the shipped railing map and view, and a map no other test uses: random boxes
 // over a sloped ground at 97 x 71 texels, 2 samples, with random receivers (some outside
@@ -16,6 +17,7 @@
 #include "io/sat_exr.hpp"
 #include "kernels/msm_scatter.clh"
 #include "kernels/msm_shading.clh"
+#include "tests/seeded_test.hpp"
 
 #include <msmcl/device_math.hpp>
 
@@ -27,6 +29,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <ostream>
 #include <random>
 #include <string>
 #include <sys/wait.h>
@@ -37,13 +40,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The run's seed (tests/seeded_test.hpp: MSMCL_TEST_SEED, else 14; printed once), recorded
+// per test. The random map is the same for every test of a run.
 unsigned test_seed() {
-    static const unsigned seed = [] {
-        const char* text = std::getenv("MSMCL_TEST_SEED");
-        const unsigned value = text ? static_cast<unsigned>(std::strtoul(text, nullptr, 10)) : 14u;
-        std::printf("vulkan_consumer_test: seed %u (MSMCL_TEST_SEED overrides)\n", value);
-        return value;
-    }();
+    const auto seed = static_cast<unsigned>(msmcl::testing::run_seed(14));
+    testing::Test::RecordProperty("seed", std::to_string(seed));
     return seed;
 }
 
@@ -259,6 +260,7 @@ struct ShadeCase {
     const char* scene;
     const char* format;
 };
+void PrintTo(const ShadeCase& shade_case, std::ostream* out) { *out << shade_case.scene << ' ' << shade_case.format; }
 std::string shade_case_name(const testing::TestParamInfo<ShadeCase>& info) {
     return std::string(info.param.scene) + "_" + info.param.format;
 }
@@ -272,11 +274,12 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
     const Inputs inputs = inputs_of(GetParam().scene, scratch);
     const std::string format = GetParam().format;
     const bool linear = format == "moments128" || format == "msm64";
-    const std::string exr = scratch / "map.exr", ktx2 = scratch / "map.ktx2";
-    run_ok(cli() + " filter " + quoted(inputs.depth) + " " + quoted(exr) + " --format " + format);
+    // One KTX2 file, read by msmcl shade and by the Vulkan consumer alike.
+    const std::string ktx2 = scratch / "map.ktx2";
     run_ok(cli() + " filter " + quoted(inputs.depth) + " " + quoted(ktx2) + " --format " + format);
     if (HasFatalFailure()) return;
-    const msmcl::io::TextureFile map = msmcl::io::read_texture_exr(exr);
+    const msmcl::Texture texture =
+        msmcl::io::texture_of(msmcl::io::read_ktx2(ktx2), *msmcl::parse_format(format), ktx2);
     const msmcl::io::ReceiverGrid grid = msmcl::io::read_receivers_exr(inputs.receivers);
     std::printf("%s %s: %zu receivers\n", GetParam().scene, format.c_str(), grid.points.size());
 
@@ -285,7 +288,7 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
     for (int lookup = 0; lookup < 3; ++lookup) {
         const std::string options = std::string(" --lookup ") + lookups[lookup] + " --frame " + frame;
         const std::string reference = scratch / (std::string("cl_") + lookups[lookup] + ".exr");
-        run_ok(cli() + " shade " + quoted(exr) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
+        run_ok(cli() + " shade " + quoted(ktx2) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
         if (HasFatalFailure()) return;
         const std::vector<float> expected = read_y(reference);
         ASSERT_EQ(expected.size(), grid.points.size());
@@ -303,7 +306,7 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
                 continue;
             }
             // The linear formats: the shader's fast path reproduced on the host, then msmcl's.
-            const Difference against_fast = difference(host_fast_path(map.texture, grid, lookup, 5, 1e-3f), shadow);
+            const Difference against_fast = difference(host_fast_path(texture, grid, lookup, 5, 1e-3f), shadow);
             print(what + " vs float32 fast path (host)", against_fast);
             EXPECT_LE(against_fast.rms, kDeviceRounding) << what;
             EXPECT_LE(against_fast.largest, kFastPathRounding) << what;
@@ -324,8 +327,8 @@ TEST_P(VulkanShade, EveryLookupAndLanguageAgreesWithMsmclShade) {
     }
     if (!linear) return;
     // Bilinear weights of 8 fractional bits, emulated on the host, against float32 weights.
-    const Difference quantized = difference(host_fast_path(map.texture, grid, 1, 0, 1e-3f),
-                                            host_fast_path(map.texture, grid, 1, 0, 1e-3f, 8));
+    const Difference quantized = difference(host_fast_path(texture, grid, 1, 0, 1e-3f),
+                                            host_fast_path(texture, grid, 1, 0, 1e-3f, 8));
     print("host: 8-bit vs float32 bilinear weights", quantized);
     const int linear_index = format == "moments128" ? 0 : 1;
     EXPECT_LE(quantized.largest, kHardwareBilinearMax[linear_index]);
@@ -369,11 +372,11 @@ TEST_P(VulkanSoft, SatSoftShadowsAgreeWithMsmclSoft) {
     test_seed();
     const Scratch scratch;
     const Inputs inputs = inputs_of(GetParam(), scratch);
-    const std::string exr = scratch / "sat.exr", ktx2 = scratch / "sat.ktx2", reference = scratch / "cl.exr";
+    // One KTX2 table, read by msmcl soft and by the Vulkan consumer alike.
+    const std::string ktx2 = scratch / "sat.ktx2", reference = scratch / "cl.exr";
     const std::string options = " --light-size 40 --depth-bias 0.02";
-    run_ok(cli() + " sat " + quoted(inputs.depth) + " " + quoted(exr) + " --max-kernel 729");
     run_ok(cli() + " sat " + quoted(inputs.depth) + " " + quoted(ktx2) + " --max-kernel 729");
-    run_ok(cli() + " soft " + quoted(exr) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
+    run_ok(cli() + " soft " + quoted(ktx2) + " " + quoted(inputs.receivers) + " " + quoted(reference) + options);
     if (HasFatalFailure()) return;
     const msmcl::io::GpuImage table = msmcl::io::read_ktx2(ktx2);
     EXPECT_EQ(table.format, msmcl::io::GpuFormat::r32g32b32a32_uint);
@@ -395,32 +398,44 @@ std::string text_name(const testing::TestParamInfo<const char*>& info) { return 
 
 INSTANTIATE_TEST_SUITE_P(Maps, VulkanSoft, testing::Values("railing", "random"), text_name);
 
-// ---- Six-moment single scattering from the two A2B10G10R10_UNORM_PACK32 layers.
+// ---- Single scattering from the prefiltered map: six moments in two
+// A2B10G10R10_UNORM_PACK32 layers, four in one R16G16B16A16_UNORM image.
 //
-// kScatterRelative (of the image's largest radiance): msmcl's kernel blends the six decoded
+// kScatterRelative (of the image's largest radiance): msmcl's kernel blends the decoded
 // moments of four texels with float32 weights; the shader lets the sampler blend the UNORM10
-// channels (decoding is affine, so only the weights' precision differs: at least 8
-// fractional bits) and runs the same float32 bounds. Measured on lavapipe: 1.2e-5 absolute
-// at radiances up to ~0.3.
+// (UNORM16) channels (decoding is affine, so only the weights' precision differs: at least 8
+// fractional bits) and runs the same float32 bounds. Measured on lavapipe: 9.5e-6 absolute
+// at radiances up to 3.6 (six moments).
 constexpr double kScatterRelative = 2e-3;
 
-class VulkanScatter : public testing::TestWithParam<const char*> {};
+struct ScatterCase {
+    const char* scene;
+    int moments;
+};
+void PrintTo(const ScatterCase& c, std::ostream* out) { *out << c.scene << ' ' << c.moments << " moments"; }
+std::string scatter_case_name(const testing::TestParamInfo<ScatterCase>& info) {
+    return std::string(info.param.scene) + "_" + std::to_string(info.param.moments);
+}
 
-TEST_P(VulkanScatter, SixMomentScatteringAgreesWithMsmclScatter) {
+class VulkanScatter : public testing::TestWithParam<ScatterCase> {};
+
+TEST_P(VulkanScatter, PrefilteredScatteringAgreesWithMsmclScatter) {
     REQUIRE_VULKAN_DEVICE();
     const Scratch scratch;
-    const std::string name = GetParam();
+    const std::string name = GetParam().scene;
+    const std::string moments = std::to_string(GetParam().moments);
     const std::string scene = scratch / "scene.json", shadow_map = scratch / "shadow.exr",
                       camera = scratch / "camera.exr", map = scratch / "map.ktx2", reference = scratch / "cl.exr";
     run_ok(quoted(MSMCL_SCATTER_SCENE_PATH) + " " + quoted(std::string(MSMCL_SOURCE_DIR) + "/data/scatter/" + name + ".json") +
            " --map-size 256 --camera-width 96 --camera-height 72 --rectified-size 128 --write-scene " + quoted(scene) +
            " --shadow-map " + quoted(shadow_map) + " --camera-depth " + quoted(camera));
     run_ok(cli() + " scatter " + quoted(scene) + " " + quoted(shadow_map) + " " + quoted(camera) + " " +
-           quoted(reference) + " --moments 6 --map " + quoted(map));
+           quoted(reference) + " --moments " + moments + " --map " + quoted(map));
     if (HasFatalFailure()) return;
     const msmcl::io::GpuImage image = msmcl::io::read_ktx2(map);
-    EXPECT_EQ(image.format, msmcl::io::GpuFormat::a2b10g10r10_unorm_pack32);
-    EXPECT_EQ(image.layers, 2);
+    EXPECT_EQ(image.format, GetParam().moments == 6 ? msmcl::io::GpuFormat::a2b10g10r10_unorm_pack32
+                                                    : msmcl::io::GpuFormat::r16g16b16a16_unorm);
+    EXPECT_EQ(image.layers, GetParam().moments == 6 ? 2 : 1);
     const std::vector<float> expected = read_y(reference);
     const double brightest = *std::max_element(expected.begin(), expected.end());
     ASSERT_GT(brightest, 0.0);
@@ -431,12 +446,14 @@ TEST_P(VulkanScatter, SixMomentScatteringAgreesWithMsmclScatter) {
         const std::vector<float> radiance = read_y(out);
         ASSERT_EQ(radiance.size(), expected.size());
         const Difference d = difference(expected, radiance);
-        print(name + (hlsl ? " hlsl" : " glsl") + " scatter vs msmcl scatter (brightest " + std::to_string(brightest) + ")", d);
+        print(name + " " + moments + (hlsl ? " hlsl" : " glsl") + " scatter vs msmcl scatter (brightest " + std::to_string(brightest) + ")", d);
         EXPECT_LE(d.largest, kScatterRelative * brightest);
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, VulkanScatter, testing::Values("hall", "pergola"), text_name);
+INSTANTIATE_TEST_SUITE_P(Scenes, VulkanScatter,
+                         testing::Values(ScatterCase{"hall", 6}, ScatterCase{"pergola", 6}, ScatterCase{"hall", 4}),
+                         scatter_case_name);
 
 // ---- The KTX2 outputs the consumer reads hold exactly what msmcl's EXR outputs hold (no
 // Vulkan device needed).
