@@ -16,6 +16,7 @@ cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize 
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
 tools=$build/tools
+generated=$build/data # the 1024^2 sample scenes msmcl_sample_data writes
 mkdir -p "$out"
 "$msmcl" devices
 
@@ -23,8 +24,8 @@ mkdir -p "$out"
 scenes=(
   "railing_256:$root/data/railing_256x256_4x.exr:$root/data/railing_view_160x120.exr:"
   "wuson_256:$root/data/wuson_256x256_4x.exr:$root/data/wuson_view_160x120.exr:"
-  "railing_1024:$tools/railing_1024x1024_8x.exr:$tools/railing_view_640x480.exr:$tools/railing_view_640x480_lighting.exr"
-  "wuson_1024:$tools/wuson_1024x1024_4x.exr:$tools/wuson_view_640x480.exr:$tools/wuson_view_640x480_lighting.exr"
+  "railing_1024:$generated/railing_1024x1024_8x.exr:$generated/railing_view_640x480.exr:$generated/railing_view_640x480_lighting.exr"
+  "wuson_1024:$generated/wuson_1024x1024_4x.exr:$generated/wuson_view_640x480.exr:$generated/wuson_view_640x480_lighting.exr"
 )
 for entry in "${scenes[@]}"; do
   IFS=: read -r name depth receivers lighting <<<"$entry"
@@ -52,9 +53,9 @@ vulkan=$build/examples/vulkan/msmcl-vulkan
 for entry in nlq32:1e-6 msm64:1e-4; do
   IFS=: read -r format diff_scale <<<"$entry"
   base=$out/railing_1024_${format}_bilinear
-  "$msmcl" filter "$tools/railing_1024x1024_8x.exr" "$out/railing_1024_${format}.ktx2" --format "$format"
-  "$vulkan" shade "$out/railing_1024_${format}.ktx2" "$tools/railing_view_640x480.exr" "${base}_vulkan_shadow.exr" --lookup bilinear
-  "$tools/msmcl-preview" "${base}_vulkan_shadow.exr" "${base}_vulkan.png" --lighting "$tools/railing_view_640x480_lighting.exr"
+  "$msmcl" filter "$generated/railing_1024x1024_8x.exr" "$out/railing_1024_${format}.ktx2" --format "$format"
+  "$vulkan" shade "$out/railing_1024_${format}.ktx2" "$generated/railing_view_640x480.exr" "${base}_vulkan_shadow.exr" --lookup bilinear
+  "$tools/msmcl-preview" "${base}_vulkan_shadow.exr" "${base}_vulkan.png" --lighting "$generated/railing_view_640x480_lighting.exr"
   echo -n "railing_1024 $format bilinear, Vulkan - OpenCL: "
   "$vulkan" compare "${base}_shadow.exr" "${base}_vulkan_shadow.exr" --diff-png "${base}_vulkan_diff.png" --diff-scale "$diff_scale"
 done
