@@ -61,25 +61,7 @@ Texture filter_in_stages(Stages& stages, Context& context, const io::Translucent
         filter(context, tiny, tiny_layers, options);
         stages.note(build_note(context, built) + ", warm-up on a 1x1 map");
     });
-    // The depths, and the layers layer after layer, as the device calls take them.
-    const std::size_t values = depth.depth.size();
-    std::vector<float> layer_depth, layer_opacity;
-    for (const TranslucentLayer& layer : layered.layers) {
-        layer_depth.insert(layer_depth.end(), layer.depth.begin(), layer.depth.end());
-        layer_opacity.insert(layer_opacity.end(), layer.opacity.begin(), layer.opacity.end());
-    }
-    std::unique_ptr<DeviceBuffer> depth_buffer, layer_depth_buffer, layer_opacity_buffer;
-    stages.run("upload", [&] {
-        depth_buffer = std::make_unique<DeviceBuffer>(context, values * sizeof(float), depth.depth.data());
-        if (layer_count > 0) {
-            layer_depth_buffer =
-                std::make_unique<DeviceBuffer>(context, layer_depth.size() * sizeof(float), layer_depth.data());
-            layer_opacity_buffer =
-                std::make_unique<DeviceBuffer>(context, layer_opacity.size() * sizeof(float), layer_opacity.data());
-        }
-        context.finish();
-        stages.note(std::to_string((values + layer_depth.size() + layer_opacity.size()) * sizeof(float)) + " bytes");
-    });
+    const DeviceLayeredDepth device = upload_layered_depth(stages, context, layered);
     Texture texture;
     texture.format = options.format;
     texture.width = depth.width;
@@ -87,11 +69,7 @@ Texture filter_in_stages(Stages& stages, Context& context, const io::Translucent
     texture.words.resize(static_cast<std::size_t>(depth.width) * depth.height * texel_words(options.format));
     DeviceBuffer texture_buffer(context, texture.words.size() * sizeof(std::uint32_t));
     stages.run("kernel", [&] {
-        const DeviceDepth device_depth{depth_buffer->get(), depth.width, depth.height, depth.samples};
-        DeviceLayers device_layers;
-        if (layer_count > 0)
-            device_layers = {layer_depth_buffer->get(), layer_opacity_buffer->get(), static_cast<int>(layer_count)};
-        filter(context, device_depth, device_layers, texture_buffer.get(), options);
+        filter(context, device.depth_view(), device.layers_view(), texture_buffer.get(), options);
         context.finish();
     });
     stages.run("download", [&] {

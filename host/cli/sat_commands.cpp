@@ -29,23 +29,7 @@ namespace {
 SatTable build_sat_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
                              const SatOptions& options) {
     const DepthImage& depth = layered.depth;
-    const std::size_t layer_count = layered.layers.size();
-    std::vector<float> layer_depth, layer_opacity;
-    for (const TranslucentLayer& layer : layered.layers) {
-        layer_depth.insert(layer_depth.end(), layer.depth.begin(), layer.depth.end());
-        layer_opacity.insert(layer_opacity.end(), layer.opacity.begin(), layer.opacity.end());
-    }
-    std::unique_ptr<DeviceBuffer> depth_buffer, layer_depth_buffer, layer_opacity_buffer;
-    stages.run("upload", [&] {
-        depth_buffer = std::make_unique<DeviceBuffer>(context, depth.depth.size() * sizeof(float), depth.depth.data());
-        if (layer_count > 0) {
-            layer_depth_buffer =
-                std::make_unique<DeviceBuffer>(context, layer_depth.size() * sizeof(float), layer_depth.data());
-            layer_opacity_buffer =
-                std::make_unique<DeviceBuffer>(context, layer_opacity.size() * sizeof(float), layer_opacity.data());
-        }
-        context.finish();
-    });
+    const DeviceLayeredDepth device = upload_layered_depth(stages, context, layered);
     SatTable table;
     table.width = depth.width;
     table.height = depth.height;
@@ -54,11 +38,7 @@ SatTable build_sat_in_stages(Stages& stages, Context& context, const io::Translu
     table.words.resize(4 * static_cast<std::size_t>(depth.width) * depth.height);
     DeviceBuffer table_buffer(context, table.words.size() * sizeof(std::uint32_t));
     stages.run("kernel", [&] {
-        const DeviceDepth device_depth{depth_buffer->get(), depth.width, depth.height, depth.samples};
-        DeviceLayers device_layers;
-        if (layer_count > 0)
-            device_layers = {layer_depth_buffer->get(), layer_opacity_buffer->get(), static_cast<int>(layer_count)};
-        build_sat(context, device_depth, device_layers, table_buffer.get(), options);
+        build_sat(context, device.depth_view(), device.layers_view(), table_buffer.get(), options);
         context.finish();
     });
     stages.run("download", [&] { table_buffer.read(context, table.words.data()); });

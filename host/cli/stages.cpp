@@ -22,7 +22,10 @@ Stages::Stages(bool verbose, int planned) : verbose_(verbose), planned_(planned 
     progress_ = !verbose_ && ::isatty(STDERR_FILENO) == 1;
     // MSMCL_PROGRESS_AFTER_MS: how long work runs before the progress line appears (500).
     if (const char* text = std::getenv("MSMCL_PROGRESS_AFTER_MS")) progress_after_ms_ = std::strtod(text, nullptr);
-    if (progress_) painter_ = std::thread([this] { draw_progress(); });
+    if (!progress_) return;
+    // A delay of 0 draws at once: the line then shows however short the command is.
+    if (progress_after_ms_ <= 0.0) draw_line();
+    painter_ = std::thread([this] { draw_progress(); });
 }
 
 Stages::~Stages() {
@@ -67,15 +70,20 @@ void Stages::draw_progress() {
         // Long work only: nothing for commands that finish within the delay.
         const double elapsed = milliseconds_since(command_start_);
         if (elapsed < progress_after_ms_) continue;
-        const int width = 20;
-        const int filled = std::min(width, done_ * width / planned_);
-        std::string bar(static_cast<std::size_t>(filled), '#');
-        bar.resize(width, '.');
-        std::fprintf(stderr, "\r\033[Kmsmcl: [%s] %d/%d %s %.1f s", bar.c_str(), std::min(done_ + 1, planned_), planned_,
-                     stage_.c_str(), elapsed / 1000.0);
-        std::fflush(stderr);
-        drawn_ = true;
+        draw_line();
     }
+}
+
+void Stages::draw_line() {
+    const double elapsed = milliseconds_since(command_start_);
+    const int width = 20;
+    const int filled = std::min(width, done_ * width / planned_);
+    std::string bar(static_cast<std::size_t>(filled), '#');
+    bar.resize(width, '.');
+    std::fprintf(stderr, "\r\033[Kmsmcl: [%s] %d/%d %s %.1f s", bar.c_str(), std::min(done_ + 1, planned_), planned_,
+                 stage_.c_str(), elapsed / 1000.0);
+    std::fflush(stderr);
+    drawn_ = true;
 }
 
 DeviceBuffer::DeviceBuffer(Context& context, std::size_t bytes, const void* data) : bytes_(bytes) {
@@ -94,6 +102,41 @@ void DeviceBuffer::read(Context& context, void* data) const {
     const cl_int status =
         clEnqueueReadBuffer(context.cl_queue_handle(), memory_, CL_TRUE, 0, bytes_, data, 0, nullptr, nullptr);
     if (status != CL_SUCCESS) throw opencl_error(status, "clEnqueueReadBuffer");
+}
+
+DeviceDepth DeviceLayeredDepth::depth_view() const { return {depth->get(), width, height, samples}; }
+
+DeviceLayers DeviceLayeredDepth::layers_view() const {
+    if (layer_count == 0) return {};
+    return {layer_depth->get(), layer_opacity->get(), layer_count};
+}
+
+DeviceLayeredDepth upload_layered_depth(Stages& stages, Context& context, const io::TranslucentDepth& layered) {
+    const DepthImage& depth = layered.depth;
+    // The layers one after another, as the device calls take them.
+    std::vector<float> layer_depth, layer_opacity;
+    for (const TranslucentLayer& layer : layered.layers) {
+        layer_depth.insert(layer_depth.end(), layer.depth.begin(), layer.depth.end());
+        layer_opacity.insert(layer_opacity.end(), layer.opacity.begin(), layer.opacity.end());
+    }
+    DeviceLayeredDepth device;
+    device.width = depth.width;
+    device.height = depth.height;
+    device.samples = depth.samples;
+    device.layer_count = static_cast<int>(layered.layers.size());
+    stages.run("upload", [&] {
+        device.depth = std::make_unique<DeviceBuffer>(context, depth.depth.size() * sizeof(float), depth.depth.data());
+        if (device.layer_count > 0) {
+            device.layer_depth =
+                std::make_unique<DeviceBuffer>(context, layer_depth.size() * sizeof(float), layer_depth.data());
+            device.layer_opacity =
+                std::make_unique<DeviceBuffer>(context, layer_opacity.size() * sizeof(float), layer_opacity.data());
+        }
+        context.finish();
+        stages.note(std::to_string((depth.depth.size() + layer_depth.size() + layer_opacity.size()) * sizeof(float)) +
+                    " bytes");
+    });
+    return device;
 }
 
 } // namespace msmcl::cli

@@ -6,7 +6,10 @@
 // The library never prints: the stages are timed here, around its calls.
 #pragma once
 
+#include "io/exr_io.hpp"
+
 #include <msmcl/context.hpp>
+#include <msmcl/types.hpp>
 
 #include <chrono>
 #include <condition_variable>
@@ -49,6 +52,8 @@ private:
     void begin(const std::string& name);
     void end();
     void draw_progress();
+    /// Draws the progress line (the painter holds mutex_, or no painter runs yet).
+    void draw_line();
 
     bool verbose_ = false;
     bool progress_ = false;
@@ -82,5 +87,18 @@ private:
     cl_mem memory_ = nullptr;
     std::size_t bytes_ = 0;
 };
+
+/// A depth map and its translucent layers in device buffers, as filter() and build_sat() take
+/// them: the depths, then the layers' depths and opacities layer after layer.
+struct DeviceLayeredDepth {
+    std::unique_ptr<DeviceBuffer> depth, layer_depth, layer_opacity;
+    DeviceDepth depth_view() const;
+    DeviceLayers layers_view() const;
+
+    int width = 0, height = 0, samples = 0, layer_count = 0;
+};
+
+/// The "upload" stage of filter and sat: `layered` into device buffers (noting the bytes).
+DeviceLayeredDepth upload_layered_depth(Stages& stages, Context& context, const io::TranslucentDepth& layered);
 
 } // namespace msmcl::cli
