@@ -63,6 +63,8 @@ extern "C" void remove_temporaries_and_reraise(int signal_number) {
     std::raise(signal_number);
 }
 
+} // namespace
+
 /// Closes and deletes the temporary file unless it was handed over by rename.
 class TemporaryFile {
 public:
@@ -100,9 +102,8 @@ private:
     bool renamed_ = false;
 };
 
-} // namespace
 
-void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
+AtomicFile::AtomicFile(const std::string& path) : path_(path) {
     if (path.empty()) throw input_error("empty output file name");
     // A directory under the final name would make rename fail late: refuse it up front.
     struct stat existing {};
@@ -110,37 +111,58 @@ void write_file_atomically(const std::string& path, const void* data, std::size_
         throw input_error(path + ": cannot write: is a directory");
 
     // Create the temporary file next to the final one, so rename stays on one file system.
-    const std::string temporary_name = temporary_name_for(path);
-    TemporaryFile temporary(temporary_name);
-    if (temporary.open_error() != 0) throw input_error(path + ": cannot write: " + system_message(temporary.open_error()));
+    temporary_ = std::make_unique<TemporaryFile>(temporary_name_for(path));
+    if (temporary_->open_error() != 0)
+        throw input_error(path + ": cannot write: " + system_message(temporary_->open_error()));
+}
 
-    // Write everything, retrying short writes.
+AtomicFile::~AtomicFile() = default;
+
+void AtomicFile::write(const void* data, std::size_t size) {
+    // Write everything at the current position, retrying short writes.
     const char* bytes = static_cast<const char*>(data);
     std::size_t written = 0;
     while (written < size) {
-        const ssize_t result = ::write(temporary.descriptor(), bytes + written, size - written);
+        const ssize_t result = ::write(temporary_->descriptor(), bytes + written, size - written);
         if (result < 0) {
             if (errno == EINTR) continue;
             const int error_number = errno;
-            throw error(path + ": cannot write: " + system_message(error_number));
+            throw error(path_ + ": cannot write: " + system_message(error_number));
         }
         written += static_cast<std::size_t>(result);
     }
+    position_ += size;
+}
 
-    // Flush to disk before the rename makes the file visible.
-    if (::fsync(temporary.descriptor()) != 0 && errno != EINVAL && errno != EROFS) {
+void AtomicFile::seek(std::uint64_t position) {
+    if (::lseek(temporary_->descriptor(), static_cast<off_t>(position), SEEK_SET) < 0) {
         const int error_number = errno;
-        throw error(path + ": cannot write: " + system_message(error_number));
+        throw error(path_ + ": cannot write: " + system_message(error_number));
     }
-    if (const int close_error = temporary.close(); close_error != 0)
-        throw error(path + ": cannot write: " + system_message(close_error));
+    position_ = position;
+}
+
+void AtomicFile::commit() {
+    // Flush to disk before the rename makes the file visible.
+    if (::fsync(temporary_->descriptor()) != 0 && errno != EINVAL && errno != EROFS) {
+        const int error_number = errno;
+        throw error(path_ + ": cannot write: " + system_message(error_number));
+    }
+    if (const int close_error = temporary_->close(); close_error != 0)
+        throw error(path_ + ": cannot write: " + system_message(close_error));
 
     // Publish under the final name in one step.
-    if (::rename(temporary.name().c_str(), path.c_str()) != 0) {
+    if (::rename(temporary_->name().c_str(), path_.c_str()) != 0) {
         const int error_number = errno;
-        throw error(path + ": cannot write: " + system_message(error_number));
+        throw error(path_ + ": cannot write: " + system_message(error_number));
     }
-    temporary.mark_renamed();
+    temporary_->mark_renamed();
+}
+
+void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
+    AtomicFile file(path);
+    file.write(data, size);
+    file.commit();
 }
 
 void remove_temporary_files_on_signals() {

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace msmcl::io {
@@ -13,6 +14,30 @@ namespace msmcl::io {
 /// Throws input_error when `path` cannot be created (missing directory, no permission)
 /// and msmcl::error when writing fails midway (disk full, I/O error).
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);
+
+class TemporaryFile;
+
+/// A file written in pieces (and seeks) under a temporary name in the directory of
+/// `path`, published by commit() as write_file_atomically publishes it; destroyed
+/// without commit(), it leaves nothing behind. The same errors as write_file_atomically.
+class AtomicFile {
+public:
+    explicit AtomicFile(const std::string& path);
+    ~AtomicFile();
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    void write(const void* data, std::size_t size);
+    void seek(std::uint64_t position);
+    std::uint64_t position() const { return position_; }
+    /// Flushes the bytes to disk and renames the file to `path`.
+    void commit();
+
+private:
+    std::string path_;
+    std::unique_ptr<TemporaryFile> temporary_;
+    std::uint64_t position_ = 0;
+};
 
 /// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress
 /// before the process ends by the signal as it would have (the handler unlinks, restores

@@ -18,6 +18,7 @@
 #include <ImfPartType.h>
 #include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
+#include <ImfThreading.h>
 #include <ImfTileDescription.h>
 #include <ImfTiledOutputFile.h>
 #include <ImfVersion.h>
@@ -26,18 +27,32 @@
 
 #include <algorithm>
 #include <array>
+#include <exception>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
+#include <thread>
 
 namespace msmcl::io {
 namespace {
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
     throw input_error(path + ": " + problem);
+}
+
+/// OpenEXR decodes and encodes the blocks of a file on its global thread pool: give it
+/// one thread per hardware thread, once, unless the program has chosen a count itself.
+int openexr_threads() {
+    static std::once_flag started;
+    std::call_once(started, [] {
+        if (Imf::globalThreadCount() == 0)
+            Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+    });
+    return Imf::globalThreadCount();
 }
 
 /// OpenEXR's message without the quoted file name it repeats (ours leads the line).
@@ -120,6 +135,38 @@ public:
 private:
     std::string bytes_;
     std::size_t position_ = 0;
+};
+
+/// An Imf output stream into an AtomicFile: the encoded bytes go to the disk as OpenEXR
+/// produces them, never all in memory. The first failure is kept, since OpenEXR's
+/// destructors swallow exceptions (the offset table is written by one).
+class AtomicFileOutputStream : public Imf::OStream {
+public:
+    AtomicFileOutputStream(const std::string& name, AtomicFile& file) : Imf::OStream(name.c_str()), file_(file) {}
+
+    void write(const char c[], int n) override { guarded([&] { file_.write(c, static_cast<std::size_t>(n)); }); }
+    uint64_t tellp() override { return file_.position(); }
+    void seekp(uint64_t position) override { guarded([&] { file_.seek(position); }); }
+
+    /// Throws the first failure of a write or seek, if any.
+    void rethrow_failure() const {
+        if (failure_) std::rethrow_exception(failure_);
+    }
+
+private:
+    template <typename Step>
+    void guarded(const Step& step) {
+        if (failure_) std::rethrow_exception(failure_);
+        try {
+            step();
+        } catch (...) {
+            failure_ = std::current_exception();
+            throw;
+        }
+    }
+
+    AtomicFile& file_;
+    std::exception_ptr failure_;
 };
 
 /// Walks the attributes of the header after the magic number and version, as OpenEXR will
@@ -229,7 +276,7 @@ public:
         // Open the file; any failure means it is damaged.
         try {
             stream_->seekg(0);
-            file_ = std::make_unique<Imf::InputFile>(*stream_, Imf::globalThreadCount());
+            file_ = std::make_unique<Imf::InputFile>(*stream_, openexr_threads());
         } catch (const std::exception& e) {
             fail(path, openexr_problem(path, e));
         }
@@ -310,6 +357,27 @@ void require_float_channel(const ExrReader& reader, const std::string& name, con
                                 "; it must be HALF or FLOAT");
 }
 
+/// The header msmcl writes for `image`: display window = data window, ZIP, the image's
+/// channels and attributes and nothing else (the channels' data is not looked at).
+Imf::Header exr_header(const ExrImage& image) {
+    const Imath::Box2i window(Imath::V2i(image.x_origin, image.y_origin),
+                              Imath::V2i(image.x_origin + image.width - 1, image.y_origin + image.height - 1));
+    Imf::Header header(window, window, 1.0f, Imath::V2f(0.0f, 0.0f), 1.0f, Imf::INCREASING_Y,
+                       Imf::ZIP_COMPRESSION);
+    for (const ExrChannel& channel : image.channels)
+        header.channels().insert(channel.name,
+                                 Imf::Channel(to_pixel_type(channel.type), channel.x_sampling, channel.y_sampling));
+    for (const ExrAttribute& attribute : image.attributes) {
+        if (const auto* text = std::get_if<std::string>(&attribute.value))
+            header.insert(attribute.name, Imf::StringAttribute(*text));
+        else if (const auto* number = std::get_if<float>(&attribute.value))
+            header.insert(attribute.name, Imf::FloatAttribute(*number));
+        else
+            header.insert(attribute.name, Imf::IntAttribute(std::get<int>(attribute.value)));
+    }
+    return header;
+}
+
 /// Serializes `image` to EXR bytes in memory (validated, ZIP, deterministic).
 std::string encode_exr(const std::string& path, const ExrImage& image) {
     // Validate sizes and channel data before OpenEXR sees them.
@@ -335,21 +403,8 @@ std::string encode_exr(const std::string& path, const ExrImage& image) {
     }
 
     // Header: display window = data window, ZIP, the caller's attributes and nothing else.
-    const Imath::Box2i window(Imath::V2i(image.x_origin, image.y_origin),
-                              Imath::V2i(image.x_origin + image.width - 1, image.y_origin + image.height - 1));
-    Imf::Header header(window, window, 1.0f, Imath::V2f(0.0f, 0.0f), 1.0f, Imf::INCREASING_Y,
-                       Imf::ZIP_COMPRESSION);
-    for (const ExrChannel& channel : image.channels)
-        header.channels().insert(channel.name,
-                                 Imf::Channel(to_pixel_type(channel.type), channel.x_sampling, channel.y_sampling));
-    for (const ExrAttribute& attribute : image.attributes) {
-        if (const auto* text = std::get_if<std::string>(&attribute.value))
-            header.insert(attribute.name, Imf::StringAttribute(*text));
-        else if (const auto* number = std::get_if<float>(&attribute.value))
-            header.insert(attribute.name, Imf::FloatAttribute(*number));
-        else
-            header.insert(attribute.name, Imf::IntAttribute(std::get<int>(attribute.value)));
-    }
+    Imf::Header header = exr_header(image);
+    const Imath::Box2i window = header.dataWindow();
 
     // Frame buffer in the channels' own types (OpenEXR does not convert on output):
     // HALF channels get rounded copies (round to nearest even).
@@ -377,11 +432,11 @@ std::string encode_exr(const std::string& path, const ExrImage& image) {
     try {
         if (image.tiled) {
             header.setTileDescription(Imf::TileDescription(32, 32, Imf::ONE_LEVEL));
-            Imf::TiledOutputFile file(stream, header, Imf::globalThreadCount());
+            Imf::TiledOutputFile file(stream, header, openexr_threads());
             file.setFrameBuffer(frame_buffer);
             file.writeTiles(0, file.numXTiles() - 1, 0, file.numYTiles() - 1);
         } else {
-            Imf::OutputFile file(stream, header, Imf::globalThreadCount());
+            Imf::OutputFile file(stream, header, openexr_threads());
             file.setFrameBuffer(frame_buffer);
             file.writePixels(image.height);
         }
@@ -430,11 +485,6 @@ TextureLayout texture_layout(Format format) {
     return {{}, SampleType::uint32};
 }
 
-float bits_to_float(std::uint32_t bits) {
-    float value;
-    std::memcpy(&value, &bits, sizeof value);
-    return value;
-}
 
 } // namespace
 
@@ -851,39 +901,72 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
     const std::size_t words_per_texel = texel_words(texture.format);
     const std::size_t texels = static_cast<std::size_t>(std::max(texture.width, 0)) * std::max(texture.height, 0);
     if (texture.words.size() != texels * words_per_texel) fail(path, "texture size does not match its data");
+    if (texels == 0)
+        fail(path, "cannot write an image of " + std::to_string(texture.width) + " x " +
+                       std::to_string(texture.height) + " texels");
     if (!std::isfinite(info.sigma) || info.sigma < 0.0f) fail(path, "sigma must be finite and >= 0");
 
-    // Split texels into channels as docs/formats.md lays them out.
+    // The channels as docs/formats.md lays them out, and the attributes that tell a reader
+    // how to use the texels.
     const TextureLayout layout = texture_layout(texture.format);
     ExrImage image;
     image.width = texture.width;
     image.height = texture.height;
     for (const std::string& name : layout.channels) image.channels.push_back({name, layout.type, {}, {}});
-    for (ExrChannel& channel : image.channels) {
-        if (layout.type == SampleType::float32) channel.values.resize(texels);
-        else channel.codes.resize(texels);
-    }
-    for (std::size_t t = 0; t < texels; ++t) {
-        const std::uint32_t* words = texture.words.data() + t * words_per_texel;
-        switch (texture.format) {
-        case Format::moments128:
-            for (std::size_t c = 0; c < 4; ++c) image.channels[c].values[t] = bits_to_float(words[c]);
-            break;
-        case Format::msm64:
-        case Format::nlq64:
-            // Channel c sits in half (c % 2) of word (c / 2), low half first.
-            for (std::size_t c = 0; c < 4; ++c) image.channels[c].codes[t] = (words[c / 2] >> (16 * (c % 2))) & 0xFFFFu;
-            break;
-        case Format::nlq32: image.channels[0].codes[t] = words[0]; break;
-        }
-    }
-
-    // Attributes that tell a reader how to use the texels.
     image.attributes = {{"msmcl:format", std::string(format_name(texture.format))},
                         {"msmcl:sigma", info.sigma},
                         {"msmcl:samples", info.samples},
                         {"msmcl:depthRange", std::string(depth_range_name(info.depth_range))}};
-    write_exr_atomically(path, image);
+
+    // Encode straight from the texture's words into the file. moments128 (float bits) and
+    // nlq32 (one word) are channels OpenEXR reads in place with a texel stride; the 16-bit
+    // codes of msm64 and nlq64 are widened to 32-bit channels one band of rows at a time.
+    const std::size_t texel_stride = words_per_texel * sizeof(std::uint32_t);
+    const std::size_t row_texels = static_cast<std::size_t>(texture.width);
+    AtomicFile file(path);
+    AtomicFileOutputStream stream(path, file);
+    try {
+        Imf::OutputFile output(stream, exr_header(image), openexr_threads());
+        const Imf::PixelType type = to_pixel_type(layout.type);
+        if (texture.format == Format::moments128 || texture.format == Format::nlq32) {
+            Imf::FrameBuffer frame_buffer;
+            for (std::size_t c = 0; c < layout.channels.size(); ++c)
+                frame_buffer.insert(layout.channels[c],
+                                    Imf::Slice(type, reinterpret_cast<char*>(const_cast<std::uint32_t*>(texture.words.data() + c)),
+                                               texel_stride, texel_stride * row_texels));
+            output.setFrameBuffer(frame_buffer);
+            output.writePixels(texture.height);
+        } else {
+            // Bands of whole ZIP blocks (16 rows) of about 8 MiB of channel values.
+            const std::size_t row_bytes = 4 * sizeof(std::uint32_t) * row_texels;
+            const int band_rows = static_cast<int>(std::max<std::size_t>(1, (8u << 20) / (16 * row_bytes)) * 16);
+            std::vector<std::uint32_t> band(4 * row_texels * static_cast<std::size_t>(std::min(band_rows, texture.height)));
+            for (int first = 0; first < texture.height; first += band_rows) {
+                const int rows = std::min(band_rows, texture.height - first);
+                const std::size_t band_texels = row_texels * static_cast<std::size_t>(rows);
+                const std::uint32_t* words = texture.words.data() + row_texels * static_cast<std::size_t>(first) * 2;
+                // Channel c sits in half (c % 2) of word (c / 2), low half first.
+                for (std::size_t t = 0; t < band_texels; ++t)
+                    for (std::size_t c = 0; c < 4; ++c) band[c * band_texels + t] = (words[2 * t + c / 2] >> (16 * (c % 2))) & 0xFFFFu;
+                const Imath::Box2i rows_window(Imath::V2i(0, first), Imath::V2i(texture.width - 1, first + rows - 1));
+                Imf::FrameBuffer frame_buffer;
+                for (std::size_t c = 0; c < 4; ++c)
+                    frame_buffer.insert(layout.channels[c],
+                                        Imf::Slice::Make(type, band.data() + c * band_texels, rows_window, sizeof(std::uint32_t),
+                                                         sizeof(std::uint32_t) * row_texels));
+                output.setFrameBuffer(frame_buffer);
+                output.writePixels(rows);
+            }
+        }
+    } catch (const msmcl::error&) {
+        throw;
+    } catch (const std::exception& e) {
+        stream.rethrow_failure();
+        throw error(path + ": cannot encode OpenEXR data (" + e.what() + ")");
+    }
+    // The offset table, written when the OpenEXR file closed, may have failed silently.
+    stream.rethrow_failure();
+    file.commit();
 }
 
 TextureFile read_texture_exr(const std::string& path) {

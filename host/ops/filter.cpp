@@ -406,7 +406,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
     texture.height = depth.height;
     texture.words.resize(detail::texel_count(depth.width, depth.height) * texel_words(options.format));
     const cl::Buffer depth_buffer =
-        detail::upload(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
+        detail::upload_in_place(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
     LayerBuffers layer_buffers;
     if (!layers.empty()) {
         const std::vector<float> layer_depth = detail::concatenated_depths(layers);
@@ -417,13 +417,12 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                                                "clCreateBuffer(layer opacity)");
         layer_buffers.count = static_cast<int>(layers.size());
     }
-    cl_int status = CL_SUCCESS;
     const std::size_t texture_bytes = texture.words.size() * sizeof(std::uint32_t);
-    cl::Buffer texture_buffer(impl.context, CL_MEM_WRITE_ONLY, texture_bytes, nullptr, &status);
-    detail::check(status, "clCreateBuffer(texture)");
+    const cl::Buffer texture_buffer =
+        detail::result_buffer(impl, texture.words.data(), texture_bytes, "clCreateBuffer(texture)");
     const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
                                           texture_buffer, options, layer_buffers);
-    detail::read_after(impl, texture_buffer, texture_bytes, texture.words.data(), done, "clEnqueueReadBuffer(texture)");
+    detail::read_result(impl, texture_buffer, texture_bytes, texture.words.data(), done, "clEnqueueReadBuffer(texture)");
     return texture;
 }
 

@@ -379,11 +379,10 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
     table.scale = scale;
     table.words.resize(4 * texel_count(depth.width, depth.height));
     const cl::Buffer depth_buffer =
-        detail::upload(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
-    cl_int status = CL_SUCCESS;
+        detail::upload_in_place(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
     const std::size_t table_bytes = table.words.size() * sizeof(std::uint32_t);
-    cl::Buffer table_buffer(impl.context, CL_MEM_READ_WRITE, table_bytes, nullptr, &status);
-    detail::check(status, "clCreateBuffer(sat table)");
+    const cl::Buffer table_buffer =
+        detail::result_buffer(impl, table.words.data(), table_bytes, "clCreateBuffer(sat table)");
     const SatSource source{true, depth.samples, options.depth_range, scale};
     const SatKernel kernel = resolve_kernel(impl.info, options.kernel);
     cl::Event done;
@@ -401,7 +400,7 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
                                          static_cast<int>(layers.size()), source, depth.width, depth.height,
                                          table_buffer, kernel);
     }
-    detail::read_after(impl, table_buffer, table_bytes, table.words.data(), done, "clEnqueueReadBuffer(sat table)");
+    detail::read_result(impl, table_buffer, table_bytes, table.words.data(), done, "clEnqueueReadBuffer(sat table)");
     return table;
 }
 

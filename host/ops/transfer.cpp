@@ -1,6 +1,8 @@
 // Host data in and out of the device (transfer.hpp).
 #include "ops/transfer.hpp"
 
+#include "runtime/memory_strategy.hpp"
+
 #include <algorithm>
 
 namespace msmcl::detail {
@@ -10,6 +12,40 @@ cl::Buffer upload(ContextImpl& impl, const void* data, std::size_t bytes, const 
     cl::Buffer buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data), &status);
     check(status, what);
     return buffer;
+}
+
+cl::Buffer upload_in_place(ContextImpl& impl, const void* data, std::size_t bytes, const char* what) {
+    if (!shares_host_memory(impl.info) || bytes == 0) return upload(impl, data, bytes, what);
+    cl_int status = CL_SUCCESS;
+    cl::Buffer buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<void*>(data), &status);
+    check(status, what);
+    return buffer;
+}
+
+cl::Buffer result_buffer(ContextImpl& impl, void* out, std::size_t bytes, const char* what) {
+    if (!shares_host_memory(impl.info) || bytes == 0) return device_buffer(impl, CL_MEM_READ_WRITE, bytes, what);
+    cl_int status = CL_SUCCESS;
+    cl::Buffer buffer(impl.context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, out, &status);
+    check(status, what);
+    return buffer;
+}
+
+void read_result(ContextImpl& impl, const cl::Buffer& buffer, std::size_t bytes, void* out, const cl::Event& after,
+                 const char* what) {
+    if (bytes == 0) return;
+    if ((buffer.getInfo<CL_MEM_FLAGS>() & CL_MEM_USE_HOST_PTR) == 0) {
+        read_after(impl, buffer, bytes, out, after, what);
+        return;
+    }
+    // Mapping a CL_MEM_USE_HOST_PTR buffer makes `out` hold the result (the spec's
+    // synchronization point); unmapping hands the buffer back.
+    const std::vector<cl::Event> waits{after};
+    cl_int status = CL_SUCCESS;
+    void* mapped = impl.queue.enqueueMapBuffer(buffer, CL_TRUE, CL_MAP_READ, 0, bytes, &waits, nullptr, &status);
+    check(status, what);
+    cl::Event unmapped;
+    check(impl.queue.enqueueUnmapMemObject(buffer, mapped, nullptr, &unmapped), what);
+    check(unmapped.wait(), what);
 }
 
 cl::Buffer upload_receivers(ContextImpl& impl, const Receivers& receivers) {

@@ -16,6 +16,20 @@ namespace msmcl::detail {
 /// A read-only buffer holding a copy of `bytes` bytes at `data`; `what` names the
 /// clCreateBuffer call in errors.
 cl::Buffer upload(ContextImpl& impl, const void* data, std::size_t bytes, const char* what);
+/// A read-only buffer over `bytes` bytes at `data` that the kernels may read in place
+/// (CL_MEM_USE_HOST_PTR on devices that share host memory, memory_strategy.hpp), else a
+/// copy: `data` must stay unchanged and alive until the buffer is released.
+cl::Buffer upload_in_place(ContextImpl& impl, const void* data, std::size_t bytes, const char* what);
+/// A buffer for a result of `bytes` bytes that lands in `out`: on devices that
+/// share host memory the kernels write `out` itself (CL_MEM_USE_HOST_PTR), else a device
+/// buffer (kernels may also read it back). `out` must stay alive until the buffer is released; read_result makes its
+/// content valid.
+cl::Buffer result_buffer(ContextImpl& impl, void* out, std::size_t bytes, const char* what);
+/// Once `after` has completed, the `bytes` bytes of a result_buffer in `out`, blocking: a
+/// map and unmap of the buffer on devices that share host memory (no copy where the driver
+/// aliases `out`), else a read.
+void read_result(ContextImpl& impl, const cl::Buffer& buffer, std::size_t bytes, void* out, const cl::Event& after,
+                 const char* what);
 /// The receivers planar (all u, then all v, then all z), as the device calls take them.
 cl::Buffer upload_receivers(ContextImpl& impl, const Receivers& receivers);
 /// A device buffer of at least `bytes` bytes (at least 4: OpenCL refuses empty buffers).

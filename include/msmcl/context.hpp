@@ -29,6 +29,7 @@ struct DeviceInfo {
     unsigned long long max_alloc_bytes = 0;
     std::size_t image2d_max_width = 0;
     std::size_t image2d_max_height = 0;
+    bool host_unified_memory = false; ///< CL_DEVICE_HOST_UNIFIED_MEMORY: the device works on host memory
 };
 
 /// A predicate on devices; compose with &&, || and !.
