@@ -182,6 +182,45 @@ TEST_F(IoTest, TextureFilesFollowTheSpecLayout) {
     EXPECT_EQ(packed.channels[0].codes[5], nlq32.code32(2, 1));
 }
 
+TEST_F(IoTest, TexturesAreEncodedStraightFromTheirWords) {
+    // write_texture_exr encodes from the texture's words (16-bit codes widened in bands of
+    // rows; 4096 texels a row makes 128-row bands, so 130 rows take two): the same bytes
+    // as the generic writer given the channels as planes, and the same words back.
+    for (Format format : {Format::moments128, Format::msm64, Format::nlq64, Format::nlq32}) {
+        SCOPED_TRACE(msmcl::format_name(format));
+        const bool banded = format == Format::msm64 || format == Format::nlq64;
+        const int width = banded ? 4096 : 61, height = banded ? 130 : 37;
+        const Texture texture = random_texture(format, width, height);
+        const msmcl::io::TextureInfo info{2.4f, 4, DepthRange::zero_one};
+        msmcl::io::write_texture_exr(path("direct.exr"), texture, info);
+
+        ExrImage planes;
+        planes.width = width;
+        planes.height = height;
+        const std::size_t texels = static_cast<std::size_t>(width) * height;
+        const int channels = format == Format::nlq32 ? 1 : 4;
+        for (int c = 0; c < channels; ++c) {
+            ExrChannel channel{std::string(1, "RGBA"[c]), format == Format::moments128 ? SampleType::float32 : SampleType::uint32, {}, {}};
+            for (int y = 0; y < height; ++y)
+                for (int x = 0; x < width; ++x) {
+                    if (format == Format::moments128) channel.values.push_back(texture.moment(x, y, c + 1));
+                    else if (format == Format::nlq32) channel.codes.push_back(texture.code32(x, y));
+                    else channel.codes.push_back(texture.code16(x, y, c));
+                }
+            ASSERT_EQ(channel.values.size() + channel.codes.size(), texels);
+            planes.channels.push_back(std::move(channel));
+        }
+        planes.attributes = {{"msmcl:format", std::string(msmcl::format_name(format))},
+                             {"msmcl:sigma", 2.4f},
+                             {"msmcl:samples", 4},
+                             {"msmcl:depthRange", std::string("0,1")}};
+        msmcl::io::write_exr(path("planes.exr"), planes);
+        EXPECT_EQ(bytes_of(path("direct.exr")), bytes_of(path("planes.exr")));
+        EXPECT_EQ(msmcl::io::read_texture_exr(path("direct.exr")).texture.words, texture.words);
+    }
+    EXPECT_EQ(entries(), (std::vector<std::string>{"direct.exr", "planes.exr"}));
+}
+
 TEST_F(IoTest, WritesAreByteDeterministic) {
     const Texture texture = random_texture(Format::msm64, 64, 48);
     msmcl::io::write_texture_exr(path("a.exr"), texture, {2.4f, 4, DepthRange::zero_one});

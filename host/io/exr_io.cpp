@@ -2,6 +2,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/image_limits.hpp"
+#include "ops/range_scan.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -547,8 +548,12 @@ ExrImage read_exr(const std::string& path) {
     return image;
 }
 
-DepthImage read_depth_exr(const std::string& path, DepthRange range) {
-    ExrReader reader(path);
+namespace {
+
+/// read_depth_exr on an opened file (read_translucent_depth_exr reads its layers from the
+/// same one).
+DepthImage read_depth(ExrReader& reader, DepthRange range) {
+    const std::string& path = reader.path();
 
     // Find the sample layout: Z alone, or sample0.Z .. sample<S-1>.Z.
     const std::vector<std::string> names = reader.channel_names();
@@ -597,9 +602,9 @@ DepthImage read_depth_exr(const std::string& path, DepthRange range) {
     // Every depth must be finite and inside the declared range.
     const float low = range == DepthRange::zero_one ? 0.0f : -1.0f;
     const float high = 1.0f;
-    for (std::size_t i = 0; i < depth.depth.size(); ++i) {
+    const std::size_t count = depth.depth.size();
+    if (const std::size_t i = detail::first_outside(depth.depth.data(), count, low, high); i < count) {
         const float value = depth.depth[i];
-        if (std::isfinite(value) && value >= low && value <= high) continue;
         const std::size_t texel = i / static_cast<std::size_t>(samples);
         const long long x = static_cast<long long>(texel % static_cast<std::size_t>(depth.width));
         const long long y = static_cast<long long>(texel / static_cast<std::size_t>(depth.width));
@@ -609,6 +614,13 @@ DepthImage read_depth_exr(const std::string& path, DepthRange range) {
                        depth_range_name(range) + "]");
     }
     return depth;
+}
+
+} // namespace
+
+DepthImage read_depth_exr(const std::string& path, DepthRange range) {
+    ExrReader reader(path);
+    return read_depth(reader, range);
 }
 
 void write_depth_exr(const std::string& path, const DepthImage& depth, SampleType type) {
@@ -672,9 +684,9 @@ void broadcast_sample0(std::vector<float>& values, std::size_t channels, int sam
 
 TranslucentDepth read_translucent_depth_exr(const std::string& path, DepthRange range) {
     TranslucentDepth result;
-    result.depth = read_depth_exr(path, range);
-    const int samples = result.depth.samples;
     ExrReader reader(path);
+    result.depth = read_depth(reader, range);
+    const int samples = result.depth.samples;
 
     // Collect the layer channels: layer<k>.Z / .A, or layer<k>.sample<s>.Z / .A.
     struct LayerChannels {

@@ -1,6 +1,8 @@
 // Validation the operations share (validation.hpp).
 #include "ops/validation.hpp"
 
+#include "ops/range_scan.hpp"
+
 #include <msmcl/errors.hpp>
 #include <msmcl/formats.hpp>
 
@@ -20,9 +22,10 @@ void validate_map_size(const std::string& what, int width, int height) {
 
 void validate_depth_values(const char* call, const DepthImage& depth, DepthRange range) {
     const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
-    for (std::size_t i = 0; i < depth.depth.size(); ++i) {
+    // Only the first bad value (if any) is looked at.
+    const std::size_t count = depth.depth.size();
+    if (const std::size_t i = first_outside(depth.depth.data(), count, lowest, 1.0f); i < count) {
         const float d = depth.depth[i];
-        if (std::isfinite(d) && d >= lowest && d <= 1.0f) continue;
         // Value i is sample i % S of texel i / S.
         const std::size_t texel = i / depth.samples;
         std::ostringstream text;
