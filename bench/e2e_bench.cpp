@@ -3,7 +3,8 @@
 // msmcl-exr-peer (a plain OpenEXR read of the same file and write of an EXR with the
 // same channels and size), in alternating order so that a slow phase of a shared machine
 // hits both. Reports wall times (median, min, max), their ratio (median of the per-
-// repetition ratios), and each child's peak resident memory (wait4's ru_maxrss) against
+// repetition ratios), the same for CPU time (user + system of all threads, the steadier
+// figure on a shared machine), and each child's peak resident memory (wait4's ru_maxrss) against
 // the data a filter must hold: the input as floats plus the output texture.
 //   msmcl-e2e-bench [--input D.exr | --size 4096 --samples 4] [--formats msm64,nlq32]
 //                   [--reps 5] [--json FILE]
@@ -35,9 +36,11 @@ extern char** environ;
 
 namespace {
 
-/// Wall time and peak resident memory of one child process.
+/// Wall time, CPU time (user + system, all threads) and peak resident memory of one
+/// child process.
 struct ChildRun {
     double ms = 0.0;
+    double cpu_ms = 0.0;
     long max_rss_kb = 0;
 };
 
@@ -60,7 +63,9 @@ ChildRun run_child(const std::vector<std::string>& arguments) {
         for (const std::string& argument : arguments) command += (command.empty() ? "" : " ") + argument;
         throw std::runtime_error("failed: " + command);
     }
-    return {std::chrono::duration<double, std::milli>(end - start).count(), usage.ru_maxrss};
+    const auto milliseconds = [](const timeval& time) { return time.tv_sec * 1e3 + time.tv_usec * 1e-3; };
+    return {std::chrono::duration<double, std::milli>(end - start).count(),
+            milliseconds(usage.ru_utime) + milliseconds(usage.ru_stime), usage.ru_maxrss};
 }
 
 double median(std::vector<double> values) {
@@ -128,7 +133,7 @@ int main(int argc, char** argv) {
             // One untimed run each (program cache, page cache), then alternating pairs.
             run_child(msmcl_command);
             run_child(peer_command);
-            std::vector<double> msmcl_ms, peer_ms, ratios, msmcl_rss, peer_rss;
+            std::vector<double> msmcl_ms, peer_ms, ratios, msmcl_cpu_ms, peer_cpu_ms, cpu_ratios, msmcl_rss, peer_rss;
             for (int rep = 0; rep < reps; ++rep) {
                 ChildRun ours, peer;
                 if (rep % 2 == 0) {
@@ -141,6 +146,9 @@ int main(int argc, char** argv) {
                 msmcl_ms.push_back(ours.ms);
                 peer_ms.push_back(peer.ms);
                 ratios.push_back(ours.ms / peer.ms);
+                msmcl_cpu_ms.push_back(ours.cpu_ms);
+                peer_cpu_ms.push_back(peer.cpu_ms);
+                cpu_ratios.push_back(ours.cpu_ms / peer.cpu_ms);
                 msmcl_rss.push_back(static_cast<double>(ours.max_rss_kb) * 1024.0);
                 peer_rss.push_back(static_cast<double>(peer.max_rss_kb) * 1024.0);
             }
@@ -154,16 +162,19 @@ int main(int argc, char** argv) {
                                   {"msmcl_ms", summary(msmcl_ms)},
                                   {"peer_ms", summary(peer_ms)},
                                   {"wall_ratio", summary(ratios)},
+                                  {"msmcl_cpu_ms", summary(msmcl_cpu_ms)},
+                                  {"peer_cpu_ms", summary(peer_cpu_ms)},
+                                  {"cpu_ratio", summary(cpu_ratios)},
                                   {"msmcl_peak_rss_bytes", summary(msmcl_rss)},
                                   {"peer_peak_rss_bytes", summary(peer_rss)},
                                   {"msmcl_rss_over_data", median(msmcl_rss) / data_bytes},
                                   {"peer_rss_over_data", median(peer_rss) / data_bytes}};
-            std::printf("%s: msmcl %.0f ms (%.0f-%.0f), peer %.0f ms (%.0f-%.0f), ratio %.2f (%.2f-%.2f); peak RSS msmcl %.0f MB "
+            std::printf("%s: msmcl %.0f ms (%.0f-%.0f), peer %.0f ms (%.0f-%.0f), ratio %.2f (%.2f-%.2f); CPU time ratio %.2f; peak RSS msmcl %.0f MB "
                         "= %.2fx data (%.0f MB), peer %.0f MB = %.2fx\n",
                         format_text.c_str(), median(msmcl_ms), row["msmcl_ms"]["min"].get<double>(),
                         row["msmcl_ms"]["max"].get<double>(), median(peer_ms), row["peer_ms"]["min"].get<double>(),
                         row["peer_ms"]["max"].get<double>(), median(ratios), row["wall_ratio"]["min"].get<double>(),
-                        row["wall_ratio"]["max"].get<double>(), median(msmcl_rss) / 1e6, median(msmcl_rss) / data_bytes,
+                        row["wall_ratio"]["max"].get<double>(), median(cpu_ratios), median(msmcl_rss) / 1e6, median(msmcl_rss) / data_bytes,
                         data_bytes / 1e6, median(peer_rss) / 1e6, median(peer_rss) / data_bytes);
             std::fflush(stdout);
             rows.push_back(row);
