@@ -7,7 +7,7 @@
 // figure on a shared machine), and each child's peak resident memory (wait4's ru_maxrss) against
 // the data a filter must hold: the input as floats plus the output texture.
 //   msmcl-e2e-bench [--input D.exr | --size 4096 --samples 4] [--formats msm64,nlq32]
-//                   [--reps 5] [--json FILE]
+//                   [--reps 5] [--json FILE] [--msmcl PATH]
 #include <msmcl/formats.hpp>
 
 #include <ImfChannelList.h>
@@ -85,7 +85,7 @@ nlohmann::json summary(const std::vector<double>& values) {
 
 int main(int argc, char** argv) {
     CLI::App app{"msmcl-e2e-bench: msmcl filter end to end against a plain OpenEXR read + write"};
-    std::string input, json_path, formats_text = "msm64,nlq32";
+    std::string input, json_path, formats_text = "msm64,nlq32", cli = MSMCL_E2E_CLI;
     int size = 4096, samples = 4, reps = 5;
     app.add_option("--input", input, "depth EXR (default: the railing scene made by msmcl-scene)");
     app.add_option("--size", size, "side of the generated depth map")->check(CLI::Range(8, 16384));
@@ -93,6 +93,7 @@ int main(int argc, char** argv) {
     app.add_option("--formats", formats_text, "comma-separated texture formats");
     app.add_option("--reps", reps, "timed repetitions of each command")->check(CLI::Range(1, 100));
     app.add_option("--json", json_path, "write the figures as JSON");
+    app.add_option("--msmcl", cli, "the msmcl executable to time (default: the one built with this bench)");
     CLI11_PARSE(app, argc, argv);
 
     try {
@@ -124,7 +125,7 @@ int main(int argc, char** argv) {
                 throw std::runtime_error("--formats: msm64, nlq64 or nlq32, got '" + format_text + "'");
             const std::uint64_t output_bytes = texels * msmcl::texel_bytes(*format);
             const std::string channel_count = *format == msmcl::Format::nlq32 ? "1" : "4";
-            const std::vector<std::string> msmcl_command = {MSMCL_E2E_CLI, "filter", input,
+            const std::vector<std::string> msmcl_command = {cli, "filter", input,
                                                             (work / ("msmcl_" + format_text + ".exr")).string(),
                                                             "--format", format_text};
             const std::vector<std::string> peer_command = {MSMCL_E2E_PEER, input, (work / ("peer_" + format_text + ".exr")).string(),
