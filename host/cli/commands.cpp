@@ -67,14 +67,16 @@ Texture filter_in_stages(Stages& stages, Context& context, const io::Translucent
     texture.width = depth.width;
     texture.height = depth.height;
     texture.words.resize(static_cast<std::size_t>(depth.width) * depth.height * texel_words(options.format));
-    DeviceBuffer texture_buffer(context, texture.words.size() * sizeof(std::uint32_t));
+    DeviceBuffer texture_buffer(context, texture.words.size() * sizeof(std::uint32_t), texture.words.data(),
+                                HostArray::result_in_place);
     stages.run("kernel", [&] {
         filter(context, device.depth_view(), device.layers_view(), texture_buffer.get(), options);
         context.finish();
     });
     stages.run("download", [&] {
         texture_buffer.read(context, texture.words.data());
-        stages.note(std::to_string(texture.words.size() * sizeof(std::uint32_t)) + " bytes");
+        stages.note(std::to_string(texture.words.size() * sizeof(std::uint32_t)) + " bytes" +
+                    (texture_buffer.in_place() ? " in place" : ""));
     });
     return texture;
 }

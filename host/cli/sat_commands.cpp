@@ -36,7 +36,8 @@ SatTable build_sat_in_stages(Stages& stages, Context& context, const io::Translu
     table.max_kernel_texels = options.max_kernel_texels;
     table.scale = sat_scale(options.max_kernel_texels);
     table.words.resize(4 * static_cast<std::size_t>(depth.width) * depth.height);
-    DeviceBuffer table_buffer(context, table.words.size() * sizeof(std::uint32_t));
+    DeviceBuffer table_buffer(context, table.words.size() * sizeof(std::uint32_t), table.words.data(),
+                              HostArray::result_in_place);
     stages.run("kernel", [&] {
         build_sat(context, device.depth_view(), device.layers_view(), table_buffer.get(), options);
         context.finish();

@@ -1,5 +1,7 @@
 #include "cli/stages.hpp"
 
+#include "runtime/memory_strategy.hpp"
+
 #include <msmcl/errors.hpp>
 
 #include <cstdio>
@@ -86,10 +88,14 @@ void Stages::draw_line() {
     drawn_ = true;
 }
 
-DeviceBuffer::DeviceBuffer(Context& context, std::size_t bytes, const void* data) : bytes_(bytes) {
+DeviceBuffer::DeviceBuffer(Context& context, std::size_t bytes, const void* data, HostArray use) : bytes_(bytes) {
     cl_int status = CL_SUCCESS;
-    const cl_mem_flags flags = CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0);
-    memory_ = clCreateBuffer(context.cl_context_handle(), flags, bytes > 0 ? bytes : 4, const_cast<void*>(data), &status);
+    in_place_ = data && bytes > 0 && use != HostArray::copy && detail::shares_host_memory(context.device());
+    const bool copied = data && !in_place_ && use != HostArray::result_in_place;
+    const cl_mem_flags flags =
+        CL_MEM_READ_WRITE | (in_place_ ? CL_MEM_USE_HOST_PTR : 0) | (copied ? CL_MEM_COPY_HOST_PTR : 0);
+    memory_ = clCreateBuffer(context.cl_context_handle(), flags, bytes > 0 ? bytes : 4,
+                             in_place_ || copied ? const_cast<void*>(data) : nullptr, &status);
     if (status != CL_SUCCESS) throw opencl_error(status, "clCreateBuffer", std::to_string(bytes) + " bytes");
 }
 
@@ -99,9 +105,19 @@ DeviceBuffer::~DeviceBuffer() {
 
 void DeviceBuffer::read(Context& context, void* data) const {
     if (bytes_ == 0) return;
-    const cl_int status =
-        clEnqueueReadBuffer(context.cl_queue_handle(), memory_, CL_TRUE, 0, bytes_, data, 0, nullptr, nullptr);
-    if (status != CL_SUCCESS) throw opencl_error(status, "clEnqueueReadBuffer");
+    cl_int status = CL_SUCCESS;
+    if (!in_place_) {
+        status = clEnqueueReadBuffer(context.cl_queue_handle(), memory_, CL_TRUE, 0, bytes_, data, 0, nullptr, nullptr);
+        if (status != CL_SUCCESS) throw opencl_error(status, "clEnqueueReadBuffer");
+        return;
+    }
+    // Mapping makes the host array hold the result; unmapping hands the buffer back.
+    void* mapped = clEnqueueMapBuffer(context.cl_queue_handle(), memory_, CL_TRUE, CL_MAP_READ, 0, bytes_, 0, nullptr,
+                                      nullptr, &status);
+    if (status != CL_SUCCESS) throw opencl_error(status, "clEnqueueMapBuffer");
+    status = clEnqueueUnmapMemObject(context.cl_queue_handle(), memory_, mapped, 0, nullptr, nullptr);
+    if (status == CL_SUCCESS) status = clFinish(context.cl_queue_handle());
+    if (status != CL_SUCCESS) throw opencl_error(status, "clEnqueueUnmapMemObject");
 }
 
 DeviceDepth DeviceLayeredDepth::depth_view() const { return {depth->get(), width, height, samples}; }
@@ -125,7 +141,8 @@ DeviceLayeredDepth upload_layered_depth(Stages& stages, Context& context, const 
     device.samples = depth.samples;
     device.layer_count = static_cast<int>(layered.layers.size());
     stages.run("upload", [&] {
-        device.depth = std::make_unique<DeviceBuffer>(context, depth.depth.size() * sizeof(float), depth.depth.data());
+        device.depth = std::make_unique<DeviceBuffer>(context, depth.depth.size() * sizeof(float), depth.depth.data(),
+                                                      HostArray::input_in_place);
         if (device.layer_count > 0) {
             device.layer_depth =
                 std::make_unique<DeviceBuffer>(context, layer_depth.size() * sizeof(float), layer_depth.data());
@@ -134,7 +151,7 @@ DeviceLayeredDepth upload_layered_depth(Stages& stages, Context& context, const 
         }
         context.finish();
         stages.note(std::to_string((depth.depth.size() + layer_depth.size() + layer_opacity.size()) * sizeof(float)) +
-                    " bytes");
+                    " bytes" + (device.depth->in_place() ? ", the depth in place" : ""));
     });
     return device;
 }

@@ -72,20 +72,28 @@ private:
     std::thread painter_;
 };
 
+/// How a DeviceBuffer holds the host array it is given: a copy made at creation, or, on
+/// devices that share host memory (runtime/memory_strategy.hpp), the array itself, which
+/// must then outlive the buffer: an input (copied elsewhere) or a result (elsewhere a
+/// device buffer of its size), as the library's host calls do.
+enum class HostArray { copy, input_in_place, result_in_place };
+
 /// A device buffer of the CLI's staged uploads, released on destruction.
 class DeviceBuffer {
 public:
-    DeviceBuffer(Context& context, std::size_t bytes, const void* data = nullptr);
+    DeviceBuffer(Context& context, std::size_t bytes, const void* data = nullptr, HostArray use = HostArray::copy);
     ~DeviceBuffer();
     DeviceBuffer(const DeviceBuffer&) = delete;
     DeviceBuffer& operator=(const DeviceBuffer&) = delete;
     cl_mem get() const { return memory_; }
-    /// Blocking read of the whole buffer.
+    bool in_place() const { return in_place_; }
+    /// Blocking read of the whole buffer (a map and unmap when it is `data` in place).
     void read(Context& context, void* data) const;
 
 private:
     cl_mem memory_ = nullptr;
     std::size_t bytes_ = 0;
+    bool in_place_ = false;
 };
 
 /// A depth map and its translucent layers in device buffers, as filter() and build_sat() take
@@ -98,7 +106,9 @@ struct DeviceLayeredDepth {
     int width = 0, height = 0, samples = 0, layer_count = 0;
 };
 
-/// The "upload" stage of filter and sat: `layered` into device buffers (noting the bytes).
+/// The "upload" stage of filter and sat: `layered` into device buffers (noting the bytes);
+/// the depth stays in place on devices that share host memory, so `layered` must outlive
+/// the buffers.
 DeviceLayeredDepth upload_layered_depth(Stages& stages, Context& context, const io::TranslucentDepth& layered);
 
 } // namespace msmcl::cli
