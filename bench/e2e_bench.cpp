@@ -25,10 +25,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -89,7 +92,8 @@ int main(int argc, char** argv) {
     int size = 4096, samples = 4, reps = 5;
     app.add_option("--input", input, "depth EXR (default: the railing scene made by msmcl-scene)");
     app.add_option("--size", size, "side of the generated depth map")->check(CLI::Range(8, 16384));
-    app.add_option("--samples", samples, "samples per texel of the generated depth map")->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    app.add_option("--samples", samples, "samples per texel of the generated depth map")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
     app.add_option("--formats", formats_text, "comma-separated texture formats");
     app.add_option("--reps", reps, "timed repetitions of each command")->check(CLI::Range(1, 100));
     app.add_option("--json", json_path, "write the figures as JSON");
@@ -128,8 +132,8 @@ int main(int argc, char** argv) {
             const std::vector<std::string> msmcl_command = {cli, "filter", input,
                                                             (work / ("msmcl_" + format_text + ".exr")).string(),
                                                             "--format", format_text};
-            const std::vector<std::string> peer_command = {MSMCL_E2E_PEER, input, (work / ("peer_" + format_text + ".exr")).string(),
-                                                           "--channels", channel_count};
+            const std::vector<std::string> peer_command = {
+                MSMCL_E2E_PEER, input, (work / ("peer_" + format_text + ".exr")).string(), "--channels", channel_count};
 
             // One untimed run each (program cache, page cache), then alternating pairs.
             run_child(msmcl_command);

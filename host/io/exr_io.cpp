@@ -942,30 +942,33 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
         const Imf::PixelType type = to_pixel_type(layout.type);
         if (texture.format == Format::moments128 || texture.format == Format::nlq32) {
             Imf::FrameBuffer frame_buffer;
+            // (OpenEXR only reads through a slice's base when it writes.)
+            char* const texels_base = const_cast<char*>(reinterpret_cast<const char*>(texture.words.data()));
             for (std::size_t c = 0; c < layout.channels.size(); ++c)
-                frame_buffer.insert(layout.channels[c],
-                                    Imf::Slice(type, reinterpret_cast<char*>(const_cast<std::uint32_t*>(texture.words.data() + c)),
-                                               texel_stride, texel_stride * row_texels));
+                frame_buffer.insert(layout.channels[c], Imf::Slice(type, texels_base + c * sizeof(std::uint32_t),
+                                                                   texel_stride, texel_stride * row_texels));
             output.setFrameBuffer(frame_buffer);
             output.writePixels(texture.height);
         } else {
             // Bands of whole ZIP blocks (16 rows) of about 8 MiB of channel values.
             const std::size_t row_bytes = 4 * sizeof(std::uint32_t) * row_texels;
             const int band_rows = static_cast<int>(std::max<std::size_t>(1, (8u << 20) / (16 * row_bytes)) * 16);
-            std::vector<std::uint32_t> band(4 * row_texels * static_cast<std::size_t>(std::min(band_rows, texture.height)));
+            std::vector<std::uint32_t> band(4 * row_texels *
+                                            static_cast<std::size_t>(std::min(band_rows, texture.height)));
             for (int first = 0; first < texture.height; first += band_rows) {
                 const int rows = std::min(band_rows, texture.height - first);
                 const std::size_t band_texels = row_texels * static_cast<std::size_t>(rows);
                 const std::uint32_t* words = texture.words.data() + row_texels * static_cast<std::size_t>(first) * 2;
                 // Channel c sits in half (c % 2) of word (c / 2), low half first.
                 for (std::size_t t = 0; t < band_texels; ++t)
-                    for (std::size_t c = 0; c < 4; ++c) band[c * band_texels + t] = (words[2 * t + c / 2] >> (16 * (c % 2))) & 0xFFFFu;
+                    for (std::size_t c = 0; c < 4; ++c)
+                        band[c * band_texels + t] = (words[2 * t + c / 2] >> (16 * (c % 2))) & 0xFFFFu;
                 const Imath::Box2i rows_window(Imath::V2i(0, first), Imath::V2i(texture.width - 1, first + rows - 1));
                 Imf::FrameBuffer frame_buffer;
                 for (std::size_t c = 0; c < 4; ++c)
                     frame_buffer.insert(layout.channels[c],
-                                        Imf::Slice::Make(type, band.data() + c * band_texels, rows_window, sizeof(std::uint32_t),
-                                                         sizeof(std::uint32_t) * row_texels));
+                                        Imf::Slice::Make(type, band.data() + c * band_texels, rows_window,
+                                                         sizeof(std::uint32_t), sizeof(std::uint32_t) * row_texels));
                 output.setFrameBuffer(frame_buffer);
                 output.writePixels(rows);
             }
