@@ -5,7 +5,7 @@
 #     The subset: every test of files, the CLI, the C API, the runtime, faults and threads,
 #     and the host math. Left out (they spend their time in OpenCL kernels, which PoCL
 #     compiles at run time without instrumentation, and which the Oclgrind label checks):
-#     filter_test, filter_cpu_test, shade_test, sat_test, soft_test, scatter_test,
+#     filter_test, shade_test, sat_test, soft_test, scatter_test,
 #     translucent_test, dither_test, bluenoise_test, fused_layout_test, shaders_test,
 #     install_test.
 #  2. ThreadSanitizer (MSMCL_SANITIZE=thread): the shared-Context concurrency test,
