@@ -4,6 +4,7 @@
 #include "ops/transfer.hpp"
 #include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/enum_names.hpp"
 #include "runtime/work_distribution.hpp"
 
 #include <msmcl/errors.hpp>
@@ -684,19 +685,17 @@ std::vector<float> decode_scatter_map(const ScatterMap& map) {
     return values;
 }
 
-const char* scatter_kernel_name(ScatterKernel kernel) noexcept {
-    switch (kernel) {
-        case ScatterKernel::automatic: return "automatic";
-        case ScatterKernel::rows_gpu: return "rows_gpu";
-        case ScatterKernel::rows_cpu: return "rows_cpu";
-    }
-    return "unknown";
-}
+// The names of ScatterKernel values, both ways (scatter_kernel_name, parse_scatter_kernel).
+constexpr detail::EnumNames<ScatterKernel> scatter_kernel_names[] = {
+    {ScatterKernel::automatic, "automatic"},
+    {ScatterKernel::rows_gpu, "rows_gpu"},
+    {ScatterKernel::rows_cpu, "rows_cpu"},
+};
+
+const char* scatter_kernel_name(ScatterKernel kernel) noexcept { return detail::name_in(scatter_kernel_names, kernel); }
 
 std::optional<ScatterKernel> parse_scatter_kernel(std::string_view name) noexcept {
-    for (ScatterKernel kernel : {ScatterKernel::automatic, ScatterKernel::rows_gpu, ScatterKernel::rows_cpu})
-        if (name == scatter_kernel_name(kernel)) return kernel;
-    return std::nullopt;
+    return detail::parse_in(scatter_kernel_names, name);
 }
 
 } // namespace msmcl
