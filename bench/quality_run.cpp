@@ -349,6 +349,74 @@ std::vector<double> device_shadow(msmcl::Context& context, const msmcl::Texture&
     return {shadow.begin(), shadow.end()};
 }
 
+/// The PCF ground truth per receiver (its plane, and a constant depth for comparison), the
+/// receiver plane's gradient, and how far the samples each lookup filters stray from it.
+struct GroundTruth {
+    std::vector<double> truth, truth_constant_bias, spread;
+    std::vector<std::array<double, 2>> gradients;
+};
+
+GroundTruth ground_truth(const PercentageCloser& pcf, const msmcl::io::ReceiverGrid& grid) {
+    const msmcl::Receivers& receivers = grid.points;
+    const std::size_t count = receivers.size();
+    GroundTruth g{std::vector<double>(count), std::vector<double>(count), std::vector<double>(count),
+                  std::vector<std::array<double, 2>>(count)};
+    parallel_for(count, [&](std::size_t i) {
+        const double receiver_z = 2.0 * receivers.z[i] - 1.0;
+        g.gradients[i] = receiver_plane_gradient(grid, static_cast<int>(i % grid.width), static_cast<int>(i / grid.width));
+        const auto& gradient = g.gradients[i];
+        g.truth[i] = pcf.at(receivers.u[i], receivers.v[i], receiver_z, gradient[0], gradient[1]);
+        g.truth_constant_bias[i] = pcf.at(receivers.u[i], receivers.v[i], receiver_z);
+        g.spread[i] = pcf.plane_spread(receivers.u[i], receivers.v[i], receiver_z, gradient[0], gradient[1]);
+    });
+    return g;
+}
+
+/// Codes the float32 encoder writes against the double encoding of the double moments
+/// (result.codes_off, texels_off, texels_off_one_depth, texel_count).
+void count_codes_off(const msmcl::Texture& device_nlq64, const std::vector<ref::Moments>& moments,
+                     SceneResult& result) {
+    for (int y = 0; y < device_nlq64.height; ++y)
+        for (int x = 0; x < device_nlq64.width; ++x) {
+            const ref::Moments& m = moments[static_cast<std::size_t>(y) * device_nlq64.width + x];
+            const ref::Codes16 expected = ref::encode_nlq64(ref::nlq_from_moments(ref::bias(m, alpha_128, bstar_128)));
+            bool off = false;
+            for (int c = 0; c < 4; ++c)
+                if (std::abs(static_cast<int>(device_nlq64.code16(x, y, c)) - static_cast<int>(expected[c])) > 1) {
+                    ++result.codes_off[c];
+                    off = true;
+                }
+            result.texels_off += off;
+            // One depth (variance < 1e-7): y1, y2, v2 hardly constrained, any codes shade alike.
+            if (off && m.b2 - m.b1 * m.b1 < 1e-7) ++result.texels_off_one_depth;
+        }
+    result.texel_count = static_cast<double>(device_nlq64.width) * device_nlq64.height;
+}
+
+/// Self-shadowing check: moments128's receivers off the truth by > 3%, darker than a lit
+/// truth; how many of them the 4MSM bound of their own plane alone explains
+/// (result.moments128_above, _lighter, _darker_lit, _self_shadow).
+void check_self_shadowing(const PercentageCloser& pcf, const msmcl::Receivers& receivers, const GroundTruth& g,
+                          const std::vector<double>& moments128, SceneResult& result) {
+    const std::vector<double>& truth = g.truth;
+    std::vector<std::size_t> darker_lit;
+    for (std::size_t i = 0; i < receivers.size(); ++i) {
+        if (std::abs(moments128[i] - truth[i]) <= error_threshold) continue;
+        ++result.moments128_above;
+        if (moments128[i] < truth[i]) ++result.moments128_lighter;
+        else if (truth[i] < error_threshold) darker_lit.push_back(i);
+    }
+    result.moments128_darker_lit = darker_lit.size();
+    std::vector<char> explained(darker_lit.size());
+    parallel_for(darker_lit.size(), [&](std::size_t k) {
+        const std::size_t i = darker_lit[k];
+        const double self_shadow = pcf.plane_self_shadow(receivers.u[i], receivers.v[i], 2.0 * receivers.z[i] - 1.0,
+                                                         g.gradients[i][0], g.gradients[i][1]);
+        explained[k] = std::abs(self_shadow - (moments128[i] - truth[i])) <= error_threshold;
+    });
+    for (char e : explained) result.moments128_self_shadow += e;
+}
+
 } // namespace
 
 SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const SceneInputs& inputs,
@@ -359,19 +427,12 @@ SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const Sce
     const std::size_t count = receivers.size();
     const std::vector<float>& materials = inputs.materials;
 
-    // Ground truth per receiver (receiver planes, and a constant depth for comparison);
-    // how far the samples each lookup filters stray from the receiver's plane.
+    // Ground truth per receiver; how far the samples each lookup filters stray from the receiver's plane.
     const PercentageCloser pcf(depth, blur_sigma);
-    std::vector<double> truth(count), truth_constant_bias(count), spread(count);
-    std::vector<std::array<double, 2>> gradients(count);
-    parallel_for(count, [&](std::size_t i) {
-        const double receiver_z = 2.0 * receivers.z[i] - 1.0;
-        gradients[i] = receiver_plane_gradient(grid, static_cast<int>(i % grid.width), static_cast<int>(i / grid.width));
-        const auto& g = gradients[i];
-        truth[i] = pcf.at(receivers.u[i], receivers.v[i], receiver_z, g[0], g[1]);
-        truth_constant_bias[i] = pcf.at(receivers.u[i], receivers.v[i], receiver_z);
-        spread[i] = pcf.plane_spread(receivers.u[i], receivers.v[i], receiver_z, g[0], g[1]);
-    });
+    const GroundTruth g = ground_truth(pcf, grid);
+    const std::vector<double>& truth = g.truth;
+    const std::vector<double>& truth_constant_bias = g.truth_constant_bias;
+    const std::vector<double>& spread = g.spread;
     // Banner receivers in the railing's shadow.
     std::vector<std::size_t> leak_set;
     for (std::size_t i = 0; i < materials.size(); ++i)
@@ -496,24 +557,8 @@ SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const Sce
          compare(device_nearest_nlq64, double_nlq64_nearest)},
     };
     // Codes the float32 encoder writes against the double encoding of the double moments.
-    std::array<std::size_t, 4> codes_off{};
-    std::size_t texels_off = 0, texels_off_one_depth = 0;
-    for (int y = 0; y < depth.height; ++y)
-        for (int x = 0; x < depth.width; ++x) {
-            const ref::Codes16 expected = ref::encode_nlq64(ref::nlq_from_moments(
-                ref::bias(reference.moments()[static_cast<std::size_t>(y) * depth.width + x], alpha_128, bstar_128)));
-            bool off = false;
-            for (int c = 0; c < 4; ++c)
-                if (std::abs(static_cast<int>(device_nlq64.code16(x, y, c)) - static_cast<int>(expected[c])) > 1) {
-                    ++codes_off[c];
-                    off = true;
-                }
-            texels_off += off;
-            // One depth (variance < 1e-7): y1, y2, v2 hardly constrained, any codes shade alike.
-            const ref::Moments& m = reference.moments()[static_cast<std::size_t>(y) * depth.width + x];
-            if (off && m.b2 - m.b1 * m.b1 < 1e-7) ++texels_off_one_depth;
-        }
-    const double texel_count = static_cast<double>(depth.width) * depth.height;
+    SceneResult result;
+    count_codes_off(device_nlq64, reference.moments(), result);
 
     // Where the receivers with nlq64 off by > 3% are: classes by footprint depth range.
     std::array<FootprintClass, 3> classes{};
@@ -532,43 +577,20 @@ SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const Sce
             ++classes[k].nearest_encoder_above;
     }
 
-    // Self-shadowing check: moments128's receivers off the truth by > 3%, darker than
-    // a lit truth; how many of them the 4MSM bound of their own plane alone explains.
-    std::size_t moments128_above = 0, moments128_lighter = 0, moments128_darker_lit = 0, moments128_self_shadow = 0;
-    std::vector<std::size_t> darker_lit;
-    for (std::size_t i = 0; i < count; ++i) {
-        if (std::abs(moments128[i] - truth[i]) <= error_threshold) continue;
-        ++moments128_above;
-        if (moments128[i] < truth[i]) ++moments128_lighter;
-        else if (truth[i] < error_threshold) darker_lit.push_back(i);
-    }
-    moments128_darker_lit = darker_lit.size();
-    std::vector<char> explained(darker_lit.size());
-    parallel_for(darker_lit.size(), [&](std::size_t k) {
-        const std::size_t i = darker_lit[k];
-        const double self_shadow = pcf.plane_self_shadow(receivers.u[i], receivers.v[i], 2.0 * receivers.z[i] - 1.0,
-                                                         gradients[i][0], gradients[i][1]);
-        explained[k] = std::abs(self_shadow - (moments128[i] - truth[i])) <= error_threshold;
-    });
-    for (char e : explained) moments128_self_shadow += e;
+    // Self-shadowing check of moments128 against the truth.
+    check_self_shadowing(pcf, receivers, g, moments128, result);
 
-    SceneResult result;
     result.scene = scene;
     result.width = depth.width, result.height = depth.height, result.samples = depth.samples;
     result.view_width = grid.width, result.view_height = grid.height;
     result.count = count;
     result.has_materials = !materials.empty();
     result.leak_set_size = leak_set.size();
-    result.truth = std::move(truth);
-    result.truth_constant_bias = std::move(truth_constant_bias);
+    result.truth = truth;
+    result.truth_constant_bias = truth_constant_bias;
     result.methods = std::move(methods);
     result.steps = steps;
-    result.codes_off = codes_off;
-    result.texels_off = texels_off, result.texels_off_one_depth = texels_off_one_depth;
-    result.texel_count = texel_count;
     result.classes = classes;
-    result.moments128_above = moments128_above, result.moments128_lighter = moments128_lighter;
-    result.moments128_darker_lit = moments128_darker_lit, result.moments128_self_shadow = moments128_self_shadow;
     return result;
 }
 
