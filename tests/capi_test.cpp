@@ -343,13 +343,42 @@ TEST_F(Capi, FilterDeviceEqualsCpp) {
     msmcl::filter(*context_, cpp_depth, cpp_texture, cpp);
     EXPECT_EQ(read_buffer<std::uint32_t>(queue(), c_texture, texels), read_buffer<std::uint32_t>(queue(), cpp_texture, texels));
 
-    // buffer -> image, image -> image (layers of samples side by side).
+    // buffer -> image.
     cl_image_format nlq32{};
     ASSERT_EQ(msmcl_texture_image_format(MSMCL_FORMAT_NLQ32, &nlq32), MSMCL_SUCCESS);
     cl_mem c_image = image(nlq32), cpp_image = image(nlq32);
     ASSERT_EQ(msmcl_filter_device(c_context_, &c_depth, c_image, &options, nullptr), MSMCL_SUCCESS);
     msmcl::filter_to_image(*context_, cpp_depth, cpp_image, cpp);
     EXPECT_EQ(read_image(queue(), c_image, 1), read_image(queue(), cpp_image, 1));
+
+    // image (samples side by side) -> buffer and -> image.
+    cl_image_desc description{};
+    description.image_type = CL_MEM_OBJECT_IMAGE2D;
+    description.image_width = std::size_t(width) * samples;
+    description.image_height = height;
+    const cl_image_format r_float{CL_R, CL_FLOAT};
+    cl_mem depth_image = clCreateImage(context_->cl_context_handle(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, &r_float,
+                                       &description, depth_.depth.data(), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    owned_.push_back(depth_image);
+    const msmcl_device_depth c_depth_image{depth_image, width, height, samples, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    msmcl::DeviceDepthImage cpp_depth_image;
+    cpp_depth_image.image = depth_image;
+    cpp_depth_image.width = width, cpp_depth_image.height = height, cpp_depth_image.samples = samples;
+    ASSERT_EQ(msmcl_filter_device(c_context_, &c_depth_image, c_texture, &options, nullptr), MSMCL_SUCCESS)
+        << msmcl_last_error_message();
+    msmcl::filter(*context_, cpp_depth_image, cpp_texture, cpp);
+    EXPECT_EQ(read_buffer<std::uint32_t>(queue(), c_texture, texels), read_buffer<std::uint32_t>(queue(), cpp_texture, texels));
+    ASSERT_EQ(msmcl_filter_device(c_context_, &c_depth_image, c_image, &options, nullptr), MSMCL_SUCCESS);
+    msmcl::filter_to_image(*context_, cpp_depth_image, cpp_image, cpp);
+    EXPECT_EQ(read_image(queue(), c_image, 1), read_image(queue(), cpp_image, 1));
+    // A sample layout outside the enum names itself.
+    msmcl_device_depth unknown_layout = c_depth_image;
+    unknown_layout.layout = static_cast<msmcl_sample_layout>(5);
+    EXPECT_EQ(msmcl_filter_device(c_context_, &unknown_layout, c_texture, &options, nullptr),
+              MSMCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(msmcl_last_error_message()).find("sample layout 5"), std::string::npos)
+        << msmcl_last_error_message();
 
     // The layered versions with no layers are the plain ones; with layers, buffers.
     ASSERT_EQ(msmcl_filter_layered_device(c_context_, &c_depth, nullptr, c_image, &options, nullptr), MSMCL_SUCCESS);
