@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "cli/batch.hpp"
 #include "cli/option_values.hpp"
 #include "cli/stages.hpp"
 #include "cli/texture_files.hpp"
@@ -123,6 +124,7 @@ std::vector<float> shade_in_stages(Stages& stages, Context& context, const Textu
 } // namespace
 
 DeviceSelection GlobalArguments::selection() const {
+    if (device == "all") throw usage_error("--device all spreads the files of a batch: only filter and sat take it");
     DeviceSelection selection;
     selection.device = device;
     // A --device that matches nothing is an error, not a silent fallback.
@@ -130,48 +132,64 @@ DeviceSelection GlobalArguments::selection() const {
     return selection;
 }
 
-void run_filter(const GlobalArguments& global, const FilterArguments& arguments) {
+namespace {
+
+/// One file of `msmcl filter`: the command line's options, overridden by the manifest's.
+MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     // Check the option values before touching any file.
-    const std::optional<Format> format = parse_format(arguments.format);
+    const std::string format_text = entry_option(entry, "format", arguments.format);
+    if (format_text.empty()) throw usage_error("--format is required");
+    const std::optional<Format> format = parse_format(format_text);
     if (!format)
-        throw usage_error("unknown --format '" + arguments.format + "' (expected moments128, msm64, nlq64 or nlq32)");
-    const float sigma = parse_finite_float("--sigma", arguments.sigma);
-    if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + arguments.sigma + "'");
-    const DepthRange range = parse_depth_range_option(arguments.depth_range);
-    const Container container = output_container(arguments.out_container, arguments.output);
-    const std::optional<FilterKernel> kernel = parse_filter_kernel(arguments.kernel);
+        throw usage_error("unknown --format '" + format_text + "' (expected moments128, msm64, nlq64 or nlq32)");
+    const std::string sigma_text = entry_option(entry, "sigma", arguments.sigma);
+    const float sigma = parse_finite_float("--sigma", sigma_text);
+    if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + sigma_text + "'");
+    const DepthRange range = parse_depth_range_option(entry_option(entry, "depth-range", arguments.depth_range));
+    const Container container =
+        output_container(entry_option(entry, "out-container", arguments.out_container), entry.output);
+    const std::string kernel_text = entry_option(entry, "kernel", arguments.kernel);
+    const std::optional<FilterKernel> kernel = parse_filter_kernel(kernel_text);
     if (!kernel)
-        throw usage_error("unknown --kernel '" + arguments.kernel +
-                          "' (expected automatic, fused_paper, fused_cpu or three_pass)");
+        throw usage_error("unknown --kernel '" + kernel_text + "' (expected automatic, fused_paper, fused_cpu or three_pass)");
 
-    Stages stages(global.verbose, global.verbose ? 7 : 4);
-
-    // Read and validate the depth map and its translucent layers (layer<k>.Z, layer<k>.A).
-    const io::TranslucentDepth layered =
-        stages.run("read", [&] { return io::read_translucent_depth_exr(arguments.input, range); });
-    const DepthImage& depth = layered.depth;
-
-    // Filter on the device.
-    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     FilterOptions options;
     options.format = *format;
     options.sigma = sigma;
     options.depth_range = range;
     options.kernel = *kernel;
-    Texture texture;
-    try {
-        if (stages.verbose())
-            texture = filter_in_stages(stages, context, layered, options);
+    MapJob job;
+    job.input = entry.input;
+    job.output = entry.output;
+    job.depth_range = range;
+    job.run = [options, container, output = entry.output](Context& context, const io::TranslucentDepth& layered,
+                                                          Stages* stages) -> std::function<void()> {
+        // Filter on the device (stage by stage for --verbose).
+        Texture texture;
+        if (stages && stages->verbose())
+            texture = filter_in_stages(*stages, context, layered, options);
+        else if (stages)
+            texture = stages->run("filter", [&] { return filter(context, layered.depth, layered.layers, options); });
         else
-            texture = stages.run("filter", [&] { return filter(context, depth, layered.layers, options); });
-    } catch (const input_error& e) {
-        rethrow_with_file(arguments.input, e);
-    }
+            texture = filter(context, layered.depth, layered.layers, options);
+        // Publish the texture with what it was made from (DDS has no place for the record).
+        const io::TextureInfo info{options.sigma, layered.depth.samples, options.depth_range};
+        return [texture = std::move(texture), info, container, output] {
+            write_texture_file(output, container, texture, info);
+        };
+    };
+    return job;
+}
 
-    // Publish the texture with what it was made from (DDS has no place for the record).
-    stages.run("write", [&] {
-        write_texture_file(arguments.output, container, texture, io::TextureInfo{sigma, depth.samples, range});
-    });
+} // namespace
+
+int run_filter(const GlobalArguments& global, const FilterArguments& arguments, const BatchArguments& batch) {
+    MapCommand command;
+    command.name = "filter";
+    command.manifest_keys = {"format", "sigma", "depth-range", "kernel", "out-container"};
+    command.out_container = arguments.out_container;
+    command.make_job = [&](const BatchEntry& entry) { return filter_job(arguments, entry); };
+    return run_map_command(global, batch, command);
 }
 
 void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {

@@ -1,0 +1,557 @@
+#include "cli/batch.hpp"
+#include "cli/progress.hpp"
+
+#include "io/atomic_file.hpp"
+
+#include <msmcl/errors.hpp>
+
+#include <boost/asio/post.hpp>
+#include <boost/asio/thread_pool.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <future>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <thread>
+
+namespace msmcl::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+/// Largest list or manifest read (a line per file: millions of files).
+constexpr std::uint64_t max_list_bytes = 256ull << 20;
+
+double milliseconds_between(Clock::time_point start, Clock::time_point end) {
+    return std::chrono::duration<double, std::milli>(end - start).count();
+}
+
+/// --shard I/N: this run's index and the number of shards.
+struct Shard {
+    std::size_t index = 0;
+    std::size_t count = 1;
+};
+
+Shard parse_shard(const std::string& text) {
+    const std::size_t slash = text.find('/');
+    const auto bad = [&] { return usage_error("--shard must be I/N with 0 <= I < N, got '" + text + "'"); };
+    if (slash == std::string::npos) throw bad();
+    const auto whole = [&](const std::string& part) {
+        if (part.empty() || part.size() > 9 || part.find_first_not_of("0123456789") != std::string::npos) throw bad();
+        return static_cast<std::size_t>(std::stoul(part));
+    };
+    Shard shard{whole(text.substr(0, slash)), whole(text.substr(slash + 1))};
+    if (shard.count == 0 || shard.index >= shard.count) throw bad();
+    return shard;
+}
+
+/// A manifest value as option text: strings as written, numbers as JSON writes them
+/// (the shortest text that reads back to the same number).
+std::string option_text(const json& value, const std::string& where) {
+    if (value.is_string()) return value.get<std::string>();
+    if (value.is_number()) return value.dump();
+    throw input_error(where + " must be a string or a number");
+}
+
+/// A JSON manifest: an array of entries, each an input path or an object with "input",
+/// optionally "output" and the command's options.
+std::vector<BatchEntry> parse_manifest(const std::string& path, const std::string& text, const MapCommand& command) {
+    json manifest;
+    try {
+        manifest = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw input_error(path + ": not a valid JSON manifest: " + e.what());
+    }
+    if (!manifest.is_array()) throw input_error(path + ": a manifest is a JSON array of entries");
+    std::vector<BatchEntry> entries;
+    for (std::size_t i = 0; i < manifest.size(); ++i) {
+        const json& item = manifest[i];
+        const std::string where = path + ": entry " + std::to_string(i);
+        BatchEntry entry;
+        if (item.is_string()) {
+            entry.input = item.get<std::string>();
+        } else if (item.is_object()) {
+            for (auto it = item.begin(); it != item.end(); ++it) {
+                const std::string& key = it.key();
+                if (key == "input") entry.input = option_text(it.value(), where + " \"input\"");
+                else if (key == "output") entry.output = option_text(it.value(), where + " \"output\"");
+                else if (std::find(command.manifest_keys.begin(), command.manifest_keys.end(), key) !=
+                         command.manifest_keys.end())
+                    entry.options[key] = option_text(it.value(), where + " \"" + key + "\"");
+                else {
+                    std::string known = "input, output";
+                    for (const std::string& name : command.manifest_keys) known += ", " + name;
+                    throw input_error(where + ": unknown key \"" + key + "\" for msmcl " + command.name + " (keys: " +
+                                      known + ")");
+                }
+            }
+        } else {
+            throw input_error(where + ": an entry is an input path or an object with \"input\"");
+        }
+        if (entry.input.empty()) throw input_error(where + ": no \"input\"");
+        entries.push_back(std::move(entry));
+    }
+    return entries;
+}
+
+/// --list FILE: a JSON manifest when its first non-blank character is '[', else one input
+/// per line (blank lines and lines starting with '#' skipped).
+std::vector<BatchEntry> read_list(const std::string& path, const MapCommand& command) {
+    const std::string text = io::read_whole_file(path, max_list_bytes);
+    const std::size_t first = text.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos && text[first] == '[') return parse_manifest(path, text, command);
+    std::vector<BatchEntry> entries;
+    std::size_t start = 0;
+    while (start < text.size()) {
+        std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        std::string line = text.substr(start, end - start);
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (!line.empty() && line[0] != '#') entries.push_back(BatchEntry{line, "", {}});
+        start = end + 1;
+    }
+    return entries;
+}
+
+/// DIR/<the input's file name, its extension replaced by the output container's>.
+std::string derived_output(const std::string& directory, const BatchEntry& entry, const MapCommand& command) {
+    const std::string container = entry_option(entry, "out-container", command.out_container);
+    const std::string stem = fs::path(entry.input).stem().string();
+    if (stem.empty() || stem == "." || stem == "..")
+        throw usage_error(entry.input + ": cannot name an output after this input (give it an \"output\" in a manifest)");
+    return (fs::path(directory) / (stem + "." + (container.empty() ? std::string("exr") : container))).string();
+}
+
+/// A path as a key for comparing files: absolute and without "." and "..".
+std::string path_key(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
+/// Refuses a batch where two files would write one output, or an output would replace an input.
+void check_outputs(const std::vector<MapJob>& jobs) {
+    std::map<std::string, const MapJob*> writer_of, inputs;
+    for (const MapJob& job : jobs) inputs.emplace(path_key(job.input), &job);
+    for (const MapJob& job : jobs) {
+        const std::string key = path_key(job.output);
+        const auto [where, fresh] = writer_of.emplace(key, &job);
+        if (!fresh)
+            throw usage_error(job.output + ": written for both " + where->second->input + " and " + job.input +
+                              " (give one of them an \"output\" in a manifest)");
+        if (inputs.count(key)) throw usage_error(job.output + ": an output would replace the input of the batch");
+    }
+}
+
+/// Every device for --device all, else the one the selection picks.
+std::vector<DeviceSelection> device_selections(const GlobalArguments& global) {
+    if (global.device != "all") return {global.selection()};
+    std::vector<DeviceSelection> selections;
+    for (const DeviceInfo& device : list_devices()) {
+        DeviceSelection selection;
+        selection.use_environment = false;
+        selection.strict = true;
+        selection.filter = DeviceFilter::platform_index(device.platform_index) &&
+                           DeviceFilter::device_index(device.device_index);
+        selections.push_back(std::move(selection));
+    }
+    if (selections.empty()) throw device_error("no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+    return selections;
+}
+
+/// Runs `work` on the pool; its result (or exception) comes back through the future.
+template <class Work>
+auto post_task(boost::asio::thread_pool& pool, Work work) -> std::future<decltype(work())> {
+    auto task = std::make_shared<std::packaged_task<decltype(work())()>>(std::move(work));
+    std::future<decltype(work())> result = task->get_future();
+    boost::asio::post(pool, [task] { (*task)(); });
+    return result;
+}
+
+enum class Outcome { pending, written, bad_input, failed };
+
+const char* outcome_name(Outcome outcome) {
+    switch (outcome) {
+    case Outcome::written: return "written";
+    case Outcome::bad_input: return "bad_input";
+    case Outcome::failed: return "failed";
+    default: return "pending";
+    }
+}
+
+/// What became of one file of a batch.
+struct FileReport {
+    Outcome outcome = Outcome::pending;
+    std::string error;
+    std::string device;
+    std::uintmax_t input_bytes = 0, output_bytes = 0;
+    double read_ms = 0, device_ms = 0, write_ms = 0, total_ms = 0;
+    Clock::time_point start;
+};
+
+/// The failure of a step as a report: bad input (exit 2) or a run-time failure (exit 1).
+/// Library input errors do not know the file: `input` goes in front unless named already.
+void record_failure(FileReport& report, const std::string& input) {
+    try {
+        throw;
+    } catch (const usage_error& e) {
+        report.outcome = Outcome::bad_input;
+        report.error = e.what();
+    } catch (const input_error& e) {
+        report.outcome = Outcome::bad_input;
+        report.error = e.what();
+    } catch (const std::bad_alloc&) {
+        report.outcome = Outcome::failed;
+        report.error = "out of memory";
+    } catch (const std::exception& e) {
+        report.outcome = Outcome::failed;
+        report.error = e.what();
+    }
+    if (report.error.rfind(input + ": ", 0) != 0) report.error = input + ": " + report.error;
+}
+
+/// A batch run: the jobs, one worker per device, the pool, the reports and the progress.
+class Batch {
+public:
+    Batch(const std::string& command, std::vector<MapJob> jobs, bool verbose)
+        : command_(command), jobs_(std::move(jobs)), reports_(jobs_.size()), verbose_(verbose) {
+        for (std::size_t i = 0; i < jobs_.size(); ++i) {
+            std::error_code error;
+            const std::uintmax_t bytes = fs::file_size(jobs_[i].input, error);
+            reports_[i].input_bytes = error ? 0 : bytes;
+            total_bytes_ += reports_[i].input_bytes;
+        }
+    }
+
+    /// Runs every job; device i takes the files at positions i, i + D, i + 2D, ... so that a
+    /// file goes to the same device on every run (kernels may differ between device types).
+    void run(std::vector<Context>& contexts) {
+        start_ = Clock::now();
+        ProgressLine progress(!verbose_, [this](double elapsed_s) { return progress_text(elapsed_s); });
+        progress_ = &progress;
+        // Per device: one read ahead and one write behind the map on the device.
+        boost::asio::thread_pool pool(2 * contexts.size());
+        std::vector<std::thread> workers;
+        for (std::size_t d = 0; d < contexts.size(); ++d) {
+            std::vector<std::size_t> mine;
+            for (std::size_t i = d; i < jobs_.size(); i += contexts.size()) mine.push_back(i);
+            workers.emplace_back([this, &pool, &context = contexts[d], mine] { work(pool, context, mine); });
+        }
+        for (std::thread& worker : workers) worker.join();
+        pool.join();
+        progress_ = nullptr;
+        seconds_ = milliseconds_between(start_, Clock::now()) / 1000.0;
+    }
+
+    std::size_t count(Outcome outcome) const {
+        return static_cast<std::size_t>(std::count_if(reports_.begin(), reports_.end(),
+                                                      [&](const FileReport& r) { return r.outcome == outcome; }));
+    }
+
+    /// "msmcl: filter: 24 files, 23 written, 1 bad input, 0 failed; 96.1 MB in 3.20 s (30.0 MB/s)".
+    std::string summary_line(std::size_t devices) const {
+        char text[512];
+        std::snprintf(text, sizeof text,
+                      "msmcl: %s: %zu files, %zu written, %zu bad input, %zu failed; %.1f MB read in %.2f s (%.1f MB/s) "
+                      "on %zu device%s",
+                      command_.c_str(), jobs_.size(), count(Outcome::written), count(Outcome::bad_input),
+                      count(Outcome::failed), total_bytes_ / 1e6, seconds_,
+                      seconds_ > 0 ? total_bytes_ / 1e6 / seconds_ : 0.0, devices, devices == 1 ? "" : "s");
+        return text;
+    }
+
+    json summary_json(const std::string& shard, std::size_t devices) const {
+        json files = json::array();
+        for (std::size_t i = 0; i < jobs_.size(); ++i) {
+            const FileReport& r = reports_[i];
+            json file = {{"input", jobs_[i].input},
+                         {"output", jobs_[i].output},
+                         {"status", outcome_name(r.outcome)},
+                         {"error", r.error.empty() ? json(nullptr) : json(r.error)},
+                         {"device", r.device},
+                         {"input_bytes", r.input_bytes},
+                         {"output_bytes", r.output_bytes},
+                         {"ms", r.total_ms},
+                         {"read_ms", r.read_ms},
+                         {"device_ms", r.device_ms},
+                         {"write_ms", r.write_ms}};
+            files.push_back(std::move(file));
+        }
+        return {{"command", command_},
+                {"shard", shard},
+                {"devices", devices},
+                {"files", std::move(files)},
+                {"written", count(Outcome::written)},
+                {"bad_input", count(Outcome::bad_input)},
+                {"failed", count(Outcome::failed)},
+                {"input_bytes", total_bytes_},
+                {"seconds", seconds_}};
+    }
+
+private:
+    /// A map read on the pool: the depth or the failure of the read.
+    struct Loaded {
+        io::TranslucentDepth depth;
+        bool ok = false;
+    };
+
+    /// One device's files in order: the next one read while this one is on the device,
+    /// the previous one written meanwhile (at most two maps and one result in memory).
+    void work(boost::asio::thread_pool& pool, Context& context, const std::vector<std::size_t>& mine) {
+        const auto read = [&](std::size_t i) { return post_task(pool, [this, i] { return load(i); }); };
+        std::future<Loaded> next;
+        if (!mine.empty()) next = read(mine[0]);
+        std::future<void> writing;
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+            const std::size_t i = mine[k];
+            std::function<void()> write;
+            {
+                Loaded current = next.get();
+                if (k + 1 < mine.size()) next = read(mine[k + 1]);
+                if (!current.ok) {
+                    finish(i);
+                    continue;
+                }
+                // The device work of this map while the next one is read.
+                FileReport& report = reports_[i];
+                report.device = context.device().name;
+                const Clock::time_point device_start = Clock::now();
+                try {
+                    write = jobs_[i].run(context, current.depth, nullptr);
+                } catch (...) {
+                    record_failure(report, jobs_[i].input);
+                }
+                report.device_ms = milliseconds_between(device_start, Clock::now());
+                if (!write) {
+                    finish(i);
+                    continue;
+                }
+            }
+            // One write at a time per device: wait for the previous one before queueing this one.
+            if (writing.valid()) writing.get();
+            writing = post_task(pool, [this, i, write = std::move(write)] { store(i, write); });
+        }
+        if (writing.valid()) writing.get();
+    }
+
+    Loaded load(std::size_t i) {
+        FileReport& report = reports_[i];
+        report.start = Clock::now();
+        Loaded loaded;
+        try {
+            loaded.depth = io::read_translucent_depth_exr(jobs_[i].input, jobs_[i].depth_range);
+            loaded.ok = true;
+        } catch (...) {
+            record_failure(report, jobs_[i].input);
+        }
+        report.read_ms = milliseconds_between(report.start, Clock::now());
+        return loaded;
+    }
+
+    void store(std::size_t i, const std::function<void()>& write) {
+        FileReport& report = reports_[i];
+        const Clock::time_point write_start = Clock::now();
+        try {
+            write();
+            report.outcome = Outcome::written;
+            std::error_code error;
+            const std::uintmax_t bytes = fs::file_size(jobs_[i].output, error);
+            report.output_bytes = error ? 0 : bytes;
+        } catch (...) {
+            record_failure(report, jobs_[i].input);
+        }
+        report.write_ms = milliseconds_between(write_start, Clock::now());
+        finish(i);
+    }
+
+    /// A file is done: its failure on stderr at once, its bytes in the progress.
+    void finish(std::size_t i) {
+        FileReport& report = reports_[i];
+        report.total_ms = milliseconds_between(report.start, Clock::now());
+        std::string line;
+        if (report.outcome != Outcome::written) {
+            line = "msmcl: " + report.error;
+        } else if (verbose_) {
+            char text[256];
+            std::snprintf(text, sizeof text, ": read %.1f ms, %s %.1f ms, write %.1f ms", report.read_ms,
+                          report.device.c_str(), report.device_ms, report.write_ms);
+            line = "msmcl: " + jobs_[i].input + " -> " + jobs_[i].output + text;
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            ++done_;
+            done_bytes_ += report.input_bytes;
+        }
+        if (line.empty()) return;
+        // No newline may stay inside the line (build logs): one line per file. Printed
+        // without holding mutex_, which the progress line's text takes.
+        std::replace(line.begin(), line.end(), '\n', ' ');
+        progress_->print(line);
+    }
+
+    /// "msmcl: filter [#####...............] 6/24 files, 31.5 MB/s, ETA 9 s".
+    std::string progress_text(double elapsed_s) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const double rate = elapsed_s > 0 ? done_bytes_ / 1e6 / elapsed_s : 0.0;
+        char text[256];
+        std::snprintf(text, sizeof text, "msmcl: %s %s %zu/%zu files, %.1f MB/s", command_.c_str(),
+                      progress_bar(done_, jobs_.size()).c_str(), done_, jobs_.size(), rate);
+        std::string line = text;
+        if (done_ > 0 && done_ < jobs_.size()) {
+            const double left_s = elapsed_s * double(total_bytes_ - std::min(done_bytes_, total_bytes_)) /
+                                  double(std::max<std::uintmax_t>(done_bytes_, 1));
+            std::snprintf(text, sizeof text, ", ETA %.0f s", left_s);
+            line += text;
+        }
+        return line;
+    }
+
+    std::string command_;
+    std::vector<MapJob> jobs_;
+    std::vector<FileReport> reports_;
+    bool verbose_ = false;
+    std::uintmax_t total_bytes_ = 0;
+    Clock::time_point start_;
+    double seconds_ = 0;
+
+    std::mutex mutex_; ///< guards what the progress line reads
+    std::size_t done_ = 0;
+    std::uintmax_t done_bytes_ = 0;
+    ProgressLine* progress_ = nullptr;
+};
+
+/// The single-file form: read, device setup, the command's stages, write; errors thrown.
+void run_one(const GlobalArguments& global, const MapJob& job) {
+    Stages stages(global.verbose, global.verbose ? 7 : 4);
+    // Read and validate the depth map and its translucent layers (layer<k>.Z, layer<k>.A).
+    const io::TranslucentDepth layered =
+        stages.run("read", [&] { return io::read_translucent_depth_exr(job.input, job.depth_range); });
+    Context context = stages.run("device setup", [&] { return Context(device_selections(global).front()); });
+    std::function<void()> write;
+    try {
+        write = job.run(context, layered, &stages);
+    } catch (const input_error& e) {
+        // Library input errors do not know the file; put it in front.
+        throw input_error(job.input + ": " + e.what());
+    }
+    stages.run("write", write);
+}
+
+/// The files of a batch in list order: the positional inputs, then the list's entries.
+std::vector<BatchEntry> batch_entries(const BatchArguments& batch, const MapCommand& command) {
+    std::vector<BatchEntry> entries;
+    for (const std::string& input : batch.paths) entries.push_back(BatchEntry{input, "", {}});
+    if (!batch.list.empty()) {
+        std::vector<BatchEntry> listed = read_list(batch.list, command);
+        entries.insert(entries.end(), std::make_move_iterator(listed.begin()), std::make_move_iterator(listed.end()));
+    }
+    return entries;
+}
+
+} // namespace
+
+void add_batch_options(CLI::App& command, BatchArguments& batch) {
+    command.add_option("paths", batch.paths, "IN OUT (one file), or the inputs IN... of a batch with -o DIR");
+    command.add_option("-o,--output-dir", batch.output_dir,
+                       "batch: write DIR/<input name>.<container> for each input (DIR is created)")
+        ->type_name("DIR");
+    command.add_option("--list", batch.list,
+                       "batch: inputs from FILE, one per line, or a JSON manifest (an array of inputs or of objects "
+                       "with \"input\", \"output\" and per-file options)")
+        ->type_name("FILE");
+    command.add_option("--shard", batch.shard,
+                       "batch: take only the files at positions p with p % N == I (0 <= I < N), for job arrays")
+        ->type_name("I/N");
+    command.add_option("--json", batch.json, "batch: write a JSON summary (per file: status, error, bytes, ms) to FILE, "
+                                             "or - for stdout")
+        ->type_name("FILE");
+}
+
+std::string entry_option(const BatchEntry& entry, const std::string& key, const std::string& fallback) {
+    const auto it = entry.options.find(key);
+    return it == entry.options.end() ? fallback : it->second;
+}
+
+int run_map_command(const GlobalArguments& global, const BatchArguments& batch, const MapCommand& command) {
+    // The single-file form: exactly IN OUT, errors thrown as from every command.
+    if (!batch.is_batch()) {
+        if (!batch.shard.empty() || !batch.json.empty())
+            throw usage_error("--shard and --json apply to a batch (-o DIR or --list FILE)");
+        if (batch.paths.size() != 2)
+            throw usage_error(batch.paths.size() < 2
+                                  ? "msmcl " + command.name + " needs IN OUT, or inputs with -o DIR or --list FILE"
+                                  : "msmcl " + command.name + " takes several inputs only with -o DIR");
+        run_one(global, command.make_job(BatchEntry{batch.paths[0], batch.paths[1], {}}));
+        return 0;
+    }
+
+    // Check every entry's options and name every output before touching a file.
+    const Shard shard = batch.shard.empty() ? Shard{} : parse_shard(batch.shard);
+    if (!batch.json.empty() && batch.json != "-" && !fs::path(batch.json).has_filename())
+        throw usage_error("--json needs a file name or -, got '" + batch.json + "'");
+    std::vector<BatchEntry> entries = batch_entries(batch, command);
+    std::vector<MapJob> jobs;
+    for (BatchEntry& entry : entries) {
+        if (entry.output.empty()) {
+            if (batch.output_dir.empty())
+                throw usage_error(entry.input + ": no output: give -o DIR (or an \"output\" in a manifest)");
+            entry.output = derived_output(batch.output_dir, entry, command);
+        }
+        try {
+            jobs.push_back(command.make_job(entry));
+        } catch (const usage_error& e) {
+            // A manifest sets options per file: say which file's are wrong.
+            throw usage_error(entry.options.empty() ? e.what() : entry.input + ": " + e.what());
+        }
+    }
+    check_outputs(jobs);
+
+    // This shard's files: positions p with p % N == I, in list order.
+    std::vector<MapJob> mine;
+    for (std::size_t p = shard.index; p < jobs.size(); p += shard.count) mine.push_back(std::move(jobs[p]));
+
+    // The output folder, then one Context per device (one program build each).
+    if (!batch.output_dir.empty()) {
+        std::error_code error;
+        fs::create_directories(batch.output_dir, error);
+        if (!fs::is_directory(batch.output_dir))
+            throw input_error(batch.output_dir + ": cannot create the output folder" +
+                              (error ? ": " + error.message() : std::string()));
+    }
+    std::vector<Context> contexts;
+    const std::vector<DeviceSelection> selections = device_selections(global);
+    for (std::size_t d = 0; d < selections.size(); ++d) {
+        try {
+            contexts.emplace_back(selections[d]);
+        } catch (const error& e) {
+            // --device all: a device that cannot be set up leaves its files to the others.
+            if (selections.size() == 1 || (d + 1 == selections.size() && contexts.empty())) throw;
+            std::fprintf(stderr, "msmcl: device %zu of %zu skipped: %s\n", d, selections.size(), e.what());
+        }
+    }
+
+    Batch run(command.name, std::move(mine), global.verbose);
+    run.run(contexts);
+
+    // The summary: a line on stderr, and the JSON where asked for.
+    const std::string shard_text = std::to_string(shard.index) + "/" + std::to_string(shard.count);
+    std::fprintf(stderr, "%s\n", run.summary_line(contexts.size()).c_str());
+    std::fflush(stderr);
+    if (!batch.json.empty()) {
+        const std::string text = run.summary_json(shard_text, contexts.size()).dump(2) + "\n";
+        if (batch.json == "-") {
+            std::cout << text;
+            std::cout.flush();
+        } else {
+            io::write_file_atomically(batch.json, text.data(), text.size());
+        }
+    }
+    if (run.count(Outcome::bad_input) > 0) return 2;
+    return run.count(Outcome::failed) > 0 ? 1 : 0;
+}
+
+} // namespace msmcl::cli
