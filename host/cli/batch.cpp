@@ -18,6 +18,7 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <set>
 #include <thread>
 
 namespace msmcl::cli {
@@ -514,12 +515,17 @@ int run_map_command(const GlobalArguments& global, const BatchArguments& batch, 
     std::vector<MapJob> mine;
     for (std::size_t p = shard.index; p < jobs.size(); p += shard.count) mine.push_back(std::move(jobs[p]));
 
-    // The output folder, then one Context per device (one program build each).
-    if (!batch.output_dir.empty()) {
+    // The output folders (-o DIR, and those a manifest names), then one Context per device
+    // (one program build each).
+    std::set<fs::path> folders;
+    if (!batch.output_dir.empty()) folders.insert(batch.output_dir);
+    for (const MapJob& job : mine) folders.insert(fs::path(job.output).parent_path());
+    for (const fs::path& folder : folders) {
+        if (folder.empty()) continue;
         std::error_code error;
-        fs::create_directories(batch.output_dir, error);
-        if (!fs::is_directory(batch.output_dir))
-            throw input_error(batch.output_dir + ": cannot create the output folder" +
+        fs::create_directories(folder, error);
+        if (!fs::is_directory(folder))
+            throw input_error(folder.string() + ": cannot create the output folder" +
                               (error ? ": " + error.message() : std::string()));
     }
     std::vector<Context> contexts;

@@ -124,7 +124,6 @@ std::vector<float> shade_in_stages(Stages& stages, Context& context, const Textu
 } // namespace
 
 DeviceSelection GlobalArguments::selection() const {
-    if (device == "all") throw usage_error("--device all spreads the files of a batch: only filter and sat take it");
     DeviceSelection selection;
     selection.device = device;
     // A --device that matches nothing is an error, not a silent fallback.

@@ -156,6 +156,9 @@ int main(int argc, char** argv) {
 
     // Run the chosen subcommand and map failures to exit codes.
     try {
+        // --device all spreads a batch's files: the other commands have one device.
+        if (global.device == "all" && !filter_command->parsed() && !sat_commands.sat_command->parsed())
+            throw msmcl::cli::usage_error("--device all spreads the files of a batch: only filter and sat take it");
         // filter and sat report a batch's failures per file and return its exit code.
         if (filter_command->parsed()) return msmcl::cli::run_filter(global, filter, filter_batch);
         else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
