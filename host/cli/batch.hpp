@@ -54,6 +54,25 @@ struct MapJob {
     std::function<std::function<void()>(Context&, const io::TranslucentDepth&, Stages*)> run;
 };
 
+/// The job of `entry` whose device work is `compute(context, layered)` (a library call),
+/// or `staged(stages, context, layered)` (the same split into --verbose stages), timed as
+/// the stage `stage` otherwise; `publish(result, samples)` writes its result.
+template <class Compute, class Staged, class Publish>
+MapJob map_job(const BatchEntry& entry, DepthRange range, const char* stage, Compute compute, Staged staged,
+               Publish publish) {
+    MapJob job;
+    job.input = entry.input;
+    job.output = entry.output;
+    job.depth_range = range;
+    job.run = [=](Context& context, const io::TranslucentDepth& layered, Stages* stages) -> std::function<void()> {
+        auto result = !stages             ? compute(context, layered)
+                      : stages->verbose() ? staged(*stages, context, layered)
+                                          : stages->run(stage, [&] { return compute(context, layered); });
+        return [result = std::move(result), publish, samples = layered.depth.samples] { publish(result, samples); };
+    };
+    return job;
+}
+
 /// What differs between filter and sat.
 struct MapCommand {
     std::string name;                       ///< "filter" or "sat"

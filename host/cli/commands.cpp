@@ -157,27 +157,19 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     options.sigma = sigma;
     options.depth_range = range;
     options.kernel = *kernel;
-    MapJob job;
-    job.input = entry.input;
-    job.output = entry.output;
-    job.depth_range = range;
-    job.run = [options, container, output = entry.output](Context& context, const io::TranslucentDepth& layered,
-                                                          Stages* stages) -> std::function<void()> {
-        // Filter on the device (stage by stage for --verbose).
-        Texture texture;
-        if (stages && stages->verbose())
-            texture = filter_in_stages(*stages, context, layered, options);
-        else if (stages)
-            texture = stages->run("filter", [&] { return filter(context, layered.depth, layered.layers, options); });
-        else
-            texture = filter(context, layered.depth, layered.layers, options);
-        // Publish the texture with what it was made from (DDS has no place for the record).
-        const io::TextureInfo info{options.sigma, layered.depth.samples, options.depth_range};
-        return [texture = std::move(texture), info, container, output] {
-            write_texture_file(output, container, texture, info);
-        };
-    };
-    return job;
+    // Filter on the device, then publish the texture with what it was made from (DDS has
+    // no place for the record).
+    return map_job(
+        entry, range, "filter",
+        [options](Context& context, const io::TranslucentDepth& layered) {
+            return filter(context, layered.depth, layered.layers, options);
+        },
+        [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
+            return filter_in_stages(stages, context, layered, options);
+        },
+        [options, container, output = entry.output](const Texture& texture, int samples) {
+            write_texture_file(output, container, texture, io::TextureInfo{options.sigma, samples, options.depth_range});
+        });
 }
 
 } // namespace

@@ -174,26 +174,18 @@ MapJob sat_job(const SatArguments& arguments, const BatchEntry& entry) {
         throw usage_error("unknown --kernel '" + kernel_text +
                           "' (expected automatic, tiled_gpu, tiled_cpu or row_per_thread)");
     options.kernel = *kernel;
-
-    MapJob job;
-    job.input = entry.input;
-    job.output = entry.output;
-    job.depth_range = options.depth_range;
-    job.run = [options, container, output = entry.output](Context& context, const io::TranslucentDepth& layered,
-                                                          Stages* stages) -> std::function<void()> {
-        // Build the table on the device (stage by stage for --verbose).
-        SatTable table;
-        if (stages && stages->verbose())
-            table = build_sat_in_stages(*stages, context, layered, options);
-        else if (stages)
-            table = stages->run("table build", [&] { return build_sat(context, layered.depth, layered.layers, options); });
-        else
-            table = build_sat(context, layered.depth, layered.layers, options);
-        // Publish the table with what a reader needs to query it.
-        const io::SatInfo info{options.depth_range, layered.depth.samples};
-        return [table = std::move(table), info, container, output] { write_sat_file(output, container, table, info); };
-    };
-    return job;
+    // Build the table on the device, then publish it with what a reader needs to query it.
+    return map_job(
+        entry, options.depth_range, "table build",
+        [options](Context& context, const io::TranslucentDepth& layered) {
+            return build_sat(context, layered.depth, layered.layers, options);
+        },
+        [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
+            return build_sat_in_stages(stages, context, layered, options);
+        },
+        [options, container, output = entry.output](const SatTable& table, int samples) {
+            write_sat_file(output, container, table, io::SatInfo{options.depth_range, samples});
+        });
 }
 
 } // namespace
