@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cstdio>
 #include <filesystem>
 #include <future>
@@ -30,6 +31,8 @@ using Clock = std::chrono::steady_clock;
 
 /// Largest list or manifest read (a line per file: millions of files).
 constexpr std::uint64_t max_list_bytes = 256ull << 20;
+/// Results of one device waiting to be written, in bytes (one larger result still goes).
+constexpr std::size_t pending_write_bytes = 64u << 20;
 
 double milliseconds_between(Clock::time_point start, Clock::time_point end) {
     return std::chrono::duration<double, std::milli>(end - start).count();
@@ -234,8 +237,8 @@ public:
         start_ = Clock::now();
         ProgressLine progress(!verbose_, [this](double elapsed_s) { return progress_text(elapsed_s); });
         progress_ = &progress;
-        // Per device: one read ahead and one write behind the map on the device.
-        boost::asio::thread_pool pool(2 * contexts.size());
+        // Per device: one read ahead of the map on the device, and the writes behind it.
+        boost::asio::thread_pool pool(contexts.size() * (1 + writes_in_flight()));
         std::vector<std::thread> workers;
         for (std::size_t d = 0; d < contexts.size(); ++d) {
             std::vector<std::size_t> mine;
@@ -300,16 +303,25 @@ private:
         bool ok = false;
     };
 
-    /// One device's files in order: the next one read while this one is on the device,
-    /// the previous one written meanwhile (at most two maps and one result in memory).
+    /// Writes queued at once per device: as many as the machine has threads (encoding is
+    /// the longest step of a small map), at most 4.
+    static std::size_t writes_in_flight() {
+        return std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 4);
+    }
+
+    /// One device's files in order: the next one read while this one is on the device, the
+    /// previous ones written meanwhile. Memory: two maps, and the results waiting to be
+    /// written, at most writes_in_flight() of them and no more than pending_write_bytes
+    /// unless a single one is larger.
     void work(boost::asio::thread_pool& pool, Context& context, const std::vector<std::size_t>& mine) {
         const auto read = [&](std::size_t i) { return post_task(pool, [this, i] { return load(i); }); };
         std::future<Loaded> next;
         if (!mine.empty()) next = read(mine[0]);
-        std::future<void> writing;
+        std::deque<std::pair<std::future<void>, std::size_t>> writing; // and the bytes each holds
+        std::size_t writing_bytes = 0;
         for (std::size_t k = 0; k < mine.size(); ++k) {
             const std::size_t i = mine[k];
-            std::function<void()> write;
+            MapResult result;
             {
                 Loaded current = next.get();
                 if (k + 1 < mine.size()) next = read(mine[k + 1]);
@@ -322,21 +334,28 @@ private:
                 report.device = context.device().name;
                 const Clock::time_point device_start = Clock::now();
                 try {
-                    write = jobs_[i].run(context, current.depth, nullptr);
+                    result = jobs_[i].run(context, current.depth, nullptr);
                 } catch (...) {
                     record_failure(report, jobs_[i].input);
                 }
                 report.device_ms = milliseconds_between(device_start, Clock::now());
-                if (!write) {
+                if (!result.write) {
                     finish(i);
                     continue;
                 }
             }
-            // One write at a time per device: wait for the previous one before queueing this one.
-            if (writing.valid()) writing.get();
-            writing = post_task(pool, [this, i, write = std::move(write)] { store(i, write); });
+            // Wait for earlier writes while too many, or too many bytes, are queued.
+            while (!writing.empty() && (writing.size() >= writes_in_flight() ||
+                                        writing_bytes + result.bytes > pending_write_bytes)) {
+                writing.front().first.get();
+                writing_bytes -= writing.front().second;
+                writing.pop_front();
+            }
+            writing_bytes += result.bytes;
+            writing.emplace_back(post_task(pool, [this, i, write = std::move(result.write)] { store(i, write); }),
+                                 result.bytes);
         }
-        if (writing.valid()) writing.get();
+        for (auto& [pending, bytes] : writing) pending.get();
     }
 
     Loaded load(std::size_t i) {
@@ -432,14 +451,14 @@ void run_one(const GlobalArguments& global, const MapJob& job) {
     const io::TranslucentDepth layered =
         stages.run("read", [&] { return io::read_translucent_depth_exr(job.input, job.depth_range); });
     Context context = stages.run("device setup", [&] { return Context(device_selections(global).front()); });
-    std::function<void()> write;
+    MapResult result;
     try {
-        write = job.run(context, layered, &stages);
+        result = job.run(context, layered, &stages);
     } catch (const input_error& e) {
         // Library input errors do not know the file; put it in front.
         throw input_error(job.input + ": " + e.what());
     }
-    stages.run("write", write);
+    stages.run("write", result.write);
 }
 
 /// The files of a batch in list order: the positional inputs, then the list's entries.

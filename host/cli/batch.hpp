@@ -43,6 +43,12 @@ struct BatchEntry {
     std::map<std::string, std::string> options;
 };
 
+/// The result of a map's device work, waiting to be written.
+struct MapResult {
+    std::function<void()> write; ///< writes the file (atomically)
+    std::size_t bytes = 0;       ///< host memory the result holds until written
+};
+
 /// One depth map to turn into one file, its option values checked.
 struct MapJob {
     std::string input;
@@ -51,12 +57,13 @@ struct MapJob {
     /// The device work on `context`; returns the write of its result, which the driver runs
     /// later (on another thread in a batch). With `stages` (one file) the work is timed
     /// stage by stage for --verbose.
-    std::function<std::function<void()>(Context&, const io::TranslucentDepth&, Stages*)> run;
+    std::function<MapResult(Context&, const io::TranslucentDepth&, Stages*)> run;
 };
 
 /// The job of `entry` whose device work is `compute(context, layered)` (a library call),
 /// or `staged(stages, context, layered)` (the same split into --verbose stages), timed as
-/// the stage `stage` otherwise; `publish(result, samples)` writes its result.
+/// the stage `stage` otherwise; `publish(result, samples)` writes its result (a Texture or
+/// SatTable: its words are what it holds).
 template <class Compute, class Staged, class Publish>
 MapJob map_job(const BatchEntry& entry, DepthRange range, const char* stage, Compute compute, Staged staged,
                Publish publish) {
@@ -64,11 +71,13 @@ MapJob map_job(const BatchEntry& entry, DepthRange range, const char* stage, Com
     job.input = entry.input;
     job.output = entry.output;
     job.depth_range = range;
-    job.run = [=](Context& context, const io::TranslucentDepth& layered, Stages* stages) -> std::function<void()> {
+    job.run = [=](Context& context, const io::TranslucentDepth& layered, Stages* stages) -> MapResult {
         auto result = !stages             ? compute(context, layered)
                       : stages->verbose() ? staged(*stages, context, layered)
                                           : stages->run(stage, [&] { return compute(context, layered); });
-        return [result = std::move(result), publish, samples = layered.depth.samples] { publish(result, samples); };
+        const std::size_t bytes = result.words.size() * sizeof(result.words[0]);
+        return {[result = std::move(result), publish, samples = layered.depth.samples] { publish(result, samples); },
+                bytes};
     };
     return job;
 }
