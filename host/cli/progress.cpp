@@ -52,8 +52,13 @@ void ProgressLine::draw() {
 }
 
 void ProgressLine::print(const std::string& line) {
-    std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
-    if (active_) lock.lock();
+    if (!active_) {
+        std::fprintf(stderr, "%s\n", line.c_str());
+        std::fflush(stderr);
+        return;
+    }
+    // Erase the progress line, print, and leave the redrawing to the next tick.
+    std::lock_guard<std::mutex> lock(mutex_);
     if (drawn_) std::fprintf(stderr, "\r\033[K");
     drawn_ = false;
     std::fprintf(stderr, "%s\n", line.c_str());
