@@ -240,13 +240,28 @@ public:
         // Per device: one read ahead of the map on the device, and the writes behind it.
         boost::asio::thread_pool pool(contexts.size() * (1 + writes_in_flight()));
         std::vector<std::thread> workers;
+        std::vector<std::string> failures(contexts.size());
         for (std::size_t d = 0; d < contexts.size(); ++d) {
             std::vector<std::size_t> mine;
             for (std::size_t i = d; i < jobs_.size(); i += contexts.size()) mine.push_back(i);
-            workers.emplace_back([this, &pool, &context = contexts[d], mine] { work(pool, context, mine); });
+            workers.emplace_back([this, &pool, &context = contexts[d], mine, &failure = failures[d]] {
+                try {
+                    work(pool, context, mine);
+                } catch (const std::exception& e) {
+                    failure = e.what();
+                }
+            });
         }
         for (std::thread& worker : workers) worker.join();
         pool.join();
+        // A worker stopped by a failure outside any one file's steps (out of memory in the
+        // pipeline itself): its files not yet done failed with it.
+        for (std::size_t i = 0; i < jobs_.size(); ++i)
+            if (reports_[i].outcome == Outcome::pending) {
+                reports_[i].outcome = Outcome::failed;
+                reports_[i].error = jobs_[i].input + ": not processed: " + failures[i % contexts.size()];
+                std::fprintf(stderr, "msmcl: %s\n", reports_[i].error.c_str());
+            }
         progress_ = nullptr;
         seconds_ = milliseconds_between(start_, Clock::now()) / 1000.0;
     }
