@@ -225,6 +225,7 @@ TEST_F(BatchCli, ListAndOptionMistakesAreRefusedBeforeAnyWork) {
         {{"filter", a, "-o", "out", "--format", "msm64", "--shard", "x"}, "--shard must be I/N"},
         {{"filter", a, "t.exr", "--format", "msm64", "--json", "-"}, "apply to a batch"},
         {{"filter", a, "t.exr", "u.exr", "--format", "msm64"}, "several inputs only with -o DIR"},
+        {{"filter", "-o", "out", "--format", "msm64"}, "needs inputs"},
         {{"--device", "all", "shade", "m.exr", "r.exr", "y.exr"}, "only filter and sat take it"},
     };
     for (const Case& c : cases) {
@@ -272,6 +273,10 @@ TEST_F(BatchCli, ShardsAreDisjointCoverTheListAndAreTheSameEveryRun) {
     std::sort(all.begin(), all.end());
     EXPECT_EQ(union_of_shards, all);
     EXPECT_EQ(files_in("out"), all);
+    // More shards than files: the empty ones succeed with nothing to do.
+    const CliRun empty = cli({"filter", "--list", "maps.txt", "--shard", "9/10", "-o", "more", "--format", "nlq32"});
+    EXPECT_EQ(empty.exit_code, 0) << empty.err;
+    EXPECT_NE(empty.err.find("msmcl: filter: 0 files, 0 written"), std::string::npos) << empty.err;
 }
 
 TEST_F(BatchCli, ABadFileIsReportedAndSkippedAndTheOthersAreWritten) {

@@ -123,7 +123,7 @@ public:
         ProgressLine progress(!verbose_, [this](double elapsed_s) { return progress_text(elapsed_s); });
         progress_ = &progress;
         // Per device: one read ahead of the map on the device, and the writes behind it.
-        boost::asio::thread_pool pool(contexts.size() * (1 + writes_in_flight()));
+        boost::asio::thread_pool pool(std::max<std::size_t>(1, contexts.size() * (1 + writes_in_flight())));
         std::vector<std::thread> workers;
         std::vector<std::string> failures(contexts.size());
         for (std::size_t d = 0; d < contexts.size(); ++d) {
@@ -399,6 +399,8 @@ int run_map_command(const GlobalArguments& global, const BatchArguments& batch, 
     }
 
     // Check every entry's options and name every output before touching a file.
+    if (batch.paths.empty() && batch.list.empty())
+        throw usage_error("msmcl " + command.name + " -o DIR needs inputs: IN... or --list FILE");
     const Shard shard = batch.shard.empty() ? Shard{} : parse_shard(batch.shard);
     if (!batch.json.empty() && batch.json != "-" && !fs::path(batch.json).has_filename())
         throw usage_error("--json needs a file name or -, got '" + batch.json + "'");
@@ -407,7 +409,9 @@ int run_map_command(const GlobalArguments& global, const BatchArguments& batch, 
     // The output folders, then one Context per device (one program build each).
     create_output_folders(batch.output_dir, mine);
     std::vector<Context> contexts;
-    const std::vector<DeviceSelection> selections = device_selections(global);
+    // An empty shard sets up no device.
+    const std::vector<DeviceSelection> selections =
+        mine.empty() ? std::vector<DeviceSelection>{} : device_selections(global);
     for (std::size_t d = 0; d < selections.size(); ++d) {
         try {
             contexts.emplace_back(selections[d]);
