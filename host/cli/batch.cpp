@@ -322,8 +322,11 @@ private:
                       progress_bar(done_, jobs_.size()).c_str(), done_, jobs_.size(), rate);
         std::string line = text;
         if (done_ > 0 && done_ < jobs_.size()) {
-            const double left_s = elapsed_s * double(total_bytes_ - std::min(done_bytes_, total_bytes_)) /
-                                  double(std::max<std::uintmax_t>(done_bytes_, 1));
+            // Time left at the rate so far: by the bytes still to read, or by the files
+            // while only empty or missing ones are done.
+            const double left_s =
+                done_bytes_ > 0 ? elapsed_s * double(total_bytes_ - std::min(done_bytes_, total_bytes_)) / double(done_bytes_)
+                                : elapsed_s * double(jobs_.size() - done_) / double(done_);
             std::snprintf(text, sizeof text, ", ETA %.0f s", left_s);
             line += text;
         }
