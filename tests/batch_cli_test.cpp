@@ -191,6 +191,14 @@ TEST_F(BatchCli, ListTakesLinesOrAManifestWithPerFileOptions) {
     EXPECT_EQ(bytes("manifest/b.exr"), bytes("s_b.exr"));
     EXPECT_EQ(bytes("elsewhere/c_map.ktx2"), bytes("s_c.ktx2"));
 
+    // "samples" states what a file must hold: a file that holds another count is bad input.
+    write_text("samples.json", R"([{"input": ")" + a + R"(", "samples": 4}, {"input": ")" + b + R"(", "samples": 4}])");
+    const CliRun samples = cli({"filter", "--list", "samples.json", "-o", "samples", "--format", "msm64"});
+    EXPECT_EQ(samples.exit_code, 2) << samples.err;
+    EXPECT_NE(samples.err.find("msmcl: b.exr: 1 samples per texel, the manifest says 4"), std::string::npos)
+        << samples.err;
+    EXPECT_EQ(files_in("samples"), (std::vector<std::string>{"a.exr"}));
+
     // sat takes its own keys; a key of another command is refused before any work.
     write_text("tables.json", R"([{"input": ")" + a + R"(", "max-kernel": 100}])");
     ASSERT_EQ(cli({"sat", "--list", "tables.json", "-o", "tables"}).exit_code, 0);

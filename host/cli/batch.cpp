@@ -264,6 +264,10 @@ private:
         Loaded loaded;
         try {
             loaded.depth = io::read_translucent_depth_exr(jobs_[i].input, jobs_[i].depth_range);
+            const int samples = loaded.depth.depth.samples, expected = jobs_[i].expected_samples;
+            if (expected != 0 && samples != expected)
+                throw input_error(jobs_[i].input + ": " + std::to_string(samples) +
+                                  " samples per texel, the manifest says " + std::to_string(expected));
             loaded.ok = true;
         } catch (...) {
             record_failure(report, jobs_[i].input);

@@ -54,6 +54,7 @@ struct MapJob {
     std::string input;
     std::string output;
     DepthRange depth_range = DepthRange::zero_one;
+    int expected_samples = 0; ///< a manifest's "samples": the file must hold that many (0: any)
     /// The device work on `context`; returns the write of its result, which the driver runs
     /// later (on another thread in a batch). With `stages` (one file) the work is timed
     /// stage by stage for --verbose.

@@ -1,8 +1,11 @@
 #include "cli/batch_list.hpp"
 
+#include "cli/option_values.hpp"
+
 #include "io/atomic_file.hpp"
 
 #include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -50,11 +53,12 @@ std::vector<BatchEntry> parse_manifest(const std::string& path, const std::strin
                 const std::string& key = it.key();
                 if (key == "input") entry.input = option_text(it.value(), where + " \"input\"");
                 else if (key == "output") entry.output = option_text(it.value(), where + " \"output\"");
+                else if (key == "samples") entry.options[key] = option_text(it.value(), where + " \"samples\"");
                 else if (std::find(command.manifest_keys.begin(), command.manifest_keys.end(), key) !=
                          command.manifest_keys.end())
                     entry.options[key] = option_text(it.value(), where + " \"" + key + "\"");
                 else {
-                    std::string known = "input, output";
+                    std::string known = "input, output, samples";
                     for (const std::string& name : command.manifest_keys) known += ", " + name;
                     throw input_error(where + ": unknown key \"" + key + "\" for msmcl " + command.name + " (keys: " +
                                       known + ")");
@@ -153,6 +157,13 @@ std::vector<MapJob> batch_jobs(const BatchArguments& batch, const MapCommand& co
         }
         try {
             jobs.push_back(command.make_job(entry));
+            // "samples": what the file must hold (the count itself is the file's).
+            const std::string samples = entry_option(entry, "samples", "");
+            if (!samples.empty()) {
+                jobs.back().expected_samples = static_cast<int>(parse_integer("\"samples\"", samples, 1, 16));
+                if (!is_supported_sample_count(jobs.back().expected_samples))
+                    throw usage_error("\"samples\" must be 1, 2, 4, 8 or 16, got '" + samples + "'");
+            }
         } catch (const usage_error& e) {
             // A manifest sets options per file: say which file's are wrong.
             throw usage_error(entry.options.empty() ? e.what() : entry.input + ": " + e.what());
