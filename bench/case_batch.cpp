@@ -54,7 +54,8 @@ void run_cli(const BenchEnv& env, std::vector<std::string> arguments) {
     if (!env.device.empty()) arguments.insert(arguments.begin(), {"--device", env.device});
     arguments.insert(arguments.begin(), MSMCL_CLI_PATH);
     const int code = msmcl::testing::run_process(arguments, "/dev/null", "/dev/null");
-    if (code != 0) throw error("msmcl-bench: batch case: msmcl " + arguments[1] + " ... exited with " + std::to_string(code));
+    if (code != 0)
+        throw error("msmcl-bench: batch case: msmcl " + arguments[1] + " ... exited with " + std::to_string(code));
 }
 
 /// A temporary folder removed at scope exit.

@@ -328,9 +328,9 @@ private:
         if (done_ > 0 && done_ < jobs_.size()) {
             // Time left at the rate so far: by the bytes still to read, or by the files
             // while only empty or missing ones are done.
-            const double left_s =
-                done_bytes_ > 0 ? elapsed_s * double(total_bytes_ - std::min(done_bytes_, total_bytes_)) / double(done_bytes_)
-                                : elapsed_s * double(jobs_.size() - done_) / double(done_);
+            const double bytes_left = double(total_bytes_ - std::min(done_bytes_, total_bytes_));
+            const double left_s = done_bytes_ > 0 ? elapsed_s * bytes_left / double(done_bytes_)
+                                                  : elapsed_s * double(jobs_.size() - done_) / double(done_);
             std::snprintf(text, sizeof text, ", ETA %.0f s", left_s);
             line += text;
         }

@@ -150,7 +150,8 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     const std::string kernel_text = entry_option(entry, "kernel", arguments.kernel);
     const std::optional<FilterKernel> kernel = parse_filter_kernel(kernel_text);
     if (!kernel)
-        throw usage_error("unknown --kernel '" + kernel_text + "' (expected automatic, fused_paper, fused_cpu or three_pass)");
+        throw usage_error("unknown --kernel '" + kernel_text +
+                          "' (expected automatic, fused_paper, fused_cpu or three_pass)");
 
     FilterOptions options;
     options.format = *format;

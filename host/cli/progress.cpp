@@ -38,7 +38,8 @@ void ProgressLine::paint() {
         wake_.wait_for(lock, std::chrono::milliseconds(100));
         if (stop_) break;
         // Long work only: nothing for commands that finish within the delay.
-        const double elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+        const double elapsed_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
         if (elapsed_ms < after_ms_) continue;
         draw();
     }
@@ -66,10 +67,10 @@ void ProgressLine::print(const std::string& line) {
 }
 
 std::string progress_bar(std::size_t done, std::size_t total, int width) {
-    const std::size_t filled =
-        total == 0 ? 0 : std::min<std::size_t>(static_cast<std::size_t>(width), done * static_cast<std::size_t>(width) / total);
+    const std::size_t columns = static_cast<std::size_t>(width);
+    const std::size_t filled = total == 0 ? 0 : std::min(columns, done * columns / total);
     std::string bar(filled, '#');
-    bar.resize(static_cast<std::size_t>(width), '.');
+    bar.resize(columns, '.');
     return "[" + bar + "]";
 }
 

@@ -26,7 +26,8 @@ namespace {
 }
 
 /// build_sat() split into the stages --verbose reports: the program (built or found by a
-/// table of a 1x1 map), the upload, the kernels, the download. Same words as build_sat(context, depth, layers, options).
+/// table of a 1x1 map), the upload, the kernels, the download. Same words as
+/// build_sat(context, depth, layers, options).
 SatTable build_sat_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
                              const SatOptions& options) {
     const DepthImage& depth = layered.depth;
@@ -152,7 +153,7 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
 
 int run_sat_commands(const GlobalArguments& global, const SatCommands& commands) {
     if (commands.sat_command && commands.sat_command->parsed()) return run_sat(global, commands.sat, commands.sat_batch);
-    run_soft(global, commands.soft);
+    if (commands.soft_command && commands.soft_command->parsed()) run_soft(global, commands.soft);
     return 0;
 }
 
