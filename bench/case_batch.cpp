@@ -8,8 +8,9 @@
 // both rows is the CPU time of the msmcl processes (user + system).
 // N: 24 maps at 512^2 and below, 8 at 1024^2, 4 at 2048^2; larger maps are skipped (a
 // batch of those is bound by the single-file path, which its own case measures). Only the
-// msm64 workloads with S = 4 run it (neither changes what a batch saves; in a full sweep it
-// adds about 2 minutes on 2 cores, once per size, not once per format and sample count).
+// msm64 workloads with S = 4 run it (neither changes what a batch saves): once per size in a
+// full sweep, 6.1 minutes for 512^2..2048^2 on the 2-core VM at load average 10 (94 + 94 +
+// 163 s with --reps 3, the default cap).
 #include "harness.hpp"
 #include "scene.hpp"
 #include "tests/process.hpp"
