@@ -4,7 +4,8 @@
 //  - --shard I/N: the shards of a list are disjoint, cover it and are the same every run;
 //  - a bad file among good ones: the others are written, one line names it, exit 2, no
 //    output (and no temporary file) for it;
-//  - --json: the summary per file; --device all; the progress line on a terminal only.
+//  - --json: the summary per file; --device all; the progress line on a terminal only,
+//    --verbose a line per file.
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
 #include "process.hpp"
@@ -388,6 +389,14 @@ TEST_F(BatchCli, ProgressShowsFilesOnATerminalOnly) {
     EXPECT_EQ(file.err.find('\r'), std::string::npos) << file.err;
     EXPECT_EQ(std::count(file.err.begin(), file.err.end(), '\n'), 1) << file.err;
     EXPECT_EQ(bytes("file/a.exr"), bytes("tty/a.exr"));
+    // --verbose: a line per written file (its read, device and write times), then the summary.
+    const CliRun verbose = cli({"--verbose", "filter", a, b, "-o", "verbose", "--format", "msm64"});
+    ASSERT_EQ(verbose.exit_code, 0) << verbose.err;
+    EXPECT_EQ(std::count(verbose.err.begin(), verbose.err.end(), '\n'), 3) << verbose.err;
+    for (const std::string& input : {a, b})
+        EXPECT_NE(verbose.err.find("msmcl: " + input + " -> verbose/" + input + ": read "), std::string::npos)
+            << verbose.err;
+    EXPECT_EQ(bytes("verbose/a.exr"), bytes("tty/a.exr"));
 }
 
 } // namespace
