@@ -1,5 +1,6 @@
 // The batch form of msmcl filter and msmcl sat (docs/batch.md), run as processes:
-//  - a batch writes byte for byte what single-file runs write (formats, containers, sat);
+//  - a batch writes byte for byte what single-file runs write (formats, containers, sat,
+//    translucent layers);
 //  - --list reads one input per line or a JSON manifest with per-file options;
 //  - --shard I/N: the shards of a list are disjoint, cover it and are the same every run;
 //  - a bad file among good ones: the others are written, one line names it, exit 2, no
@@ -153,10 +154,22 @@ TEST_F(BatchCli, FilterBatchWritesTheBytesOfSingleRunsInEveryFormat) {
 }
 
 TEST_F(BatchCli, SatBatchWritesTheBytesOfSingleRuns) {
-    const std::vector<std::string> inputs = {write_depth("p.exr", 45, 33, 4), write_depth("q.exr", 64, 20, 1)};
-    const CliRun batch = cli({"sat", inputs[0], inputs[1], "-o", "tables", "--max-kernel", "400"});
+    // One map with a translucent layer (layer0.Z, layer0.A) among the opaque ones.
+    const std::string opaque = write_depth("t_opaque.exr", 36, 28, 2);
+    msmcl::io::TranslucentDepth translucent;
+    translucent.depth = msmcl::io::read_depth_exr(path(opaque), msmcl::DepthRange::zero_one);
+    msmcl::TranslucentLayer layer;
+    for (float depth : translucent.depth.depth) {
+        layer.depth.push_back(depth * 0.5f);
+        layer.opacity.push_back(0.25f + 0.5f * depth);
+    }
+    translucent.layers.push_back(layer);
+    msmcl::io::write_translucent_depth_exr(path("t.exr"), translucent);
+    const std::vector<std::string> inputs = {write_depth("p.exr", 45, 33, 4), write_depth("q.exr", 64, 20, 1), "t.exr"};
+    const CliRun batch = cli({"sat", inputs[0], inputs[1], inputs[2], "-o", "tables", "--max-kernel", "400"});
     ASSERT_EQ(batch.exit_code, 0) << batch.err;
-    const CliRun dds = cli({"sat", inputs[0], inputs[1], "-o", "dds", "--max-kernel", "400", "--out-container", "dds"});
+    const CliRun dds =
+        cli({"sat", inputs[0], inputs[1], inputs[2], "-o", "dds", "--max-kernel", "400", "--out-container", "dds"});
     ASSERT_EQ(dds.exit_code, 0) << dds.err;
     for (const std::string& input : inputs) {
         const std::string stem = input.substr(0, input.size() - 4);
