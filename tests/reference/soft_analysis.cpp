@@ -249,7 +249,7 @@ SoftResult MomentTable::soft_shadow(const PcssMap& pcss_map, double u, double v,
                 weighted += points.weight[i] * points.depth[i];
             }
         }
-        receiver = points.count > 1 ? variant.receiver_weight * std::max(points.weight[0], 0.0) : 0.0;
+        receiver = points.count > 1 ? variant.receiver_weight * std::clamp(points.weight[0], 0.0, 1.0) : 0.0;
     }
     result.blocker_shadow = share;
     if (swaps.plain_average)
@@ -272,9 +272,10 @@ SoftResult MomentTable::soft_shadow(const PcssMap& pcss_map, double u, double v,
         result.shadow = pcss_map.pcf(left, top, right, bottom, zf);
         return result;
     }
-    // The filter region as one query or split into n x n equal parts, each its own 4MSM bound.
+    // The filter region as one query or split into n x n equal parts, each its own 4MSM bound,
+    // weighted by area.
     const int parts = std::max(variant.parts, 1);
-    double shadow = 0;
+    double shadow = 0, area = 0;
     for (int j = 0; j < parts; ++j)
         for (int i = 0; i < parts; ++i) {
             // Part edges; the outer ones are the filter square's own.
@@ -283,9 +284,10 @@ SoftResult MomentTable::soft_shadow(const PcssMap& pcss_map, double u, double v,
             const double t = j == 0 ? top : top + (bottom - top) * j / parts;
             const double b = j + 1 == parts ? bottom : top + (bottom - top) * (j + 1) / parts;
             const Moments filtered = bias(mean_moments(l, t, r, b, swaps.unquantized_table), p.alpha, bstar_float);
-            shadow += std::clamp(hamburger4(filtered, zf).lower, 0.0, 1.0);
+            shadow += (r - l) * (b - t) * std::clamp(hamburger4(filtered, zf).lower, 0.0, 1.0);
+            area += (r - l) * (b - t);
         }
-    result.shadow = shadow / (parts * parts);
+    result.shadow = shadow / area;
     return result;
 }
 

@@ -65,7 +65,7 @@ struct SoftVariant {
     /// + sum w_i). 0: the published eps-weighted average.
     double receiver_weight = 0;
     /// The filter region split into parts x parts equal squares, each its own 4MSM lower
-    /// bound, averaged. 1: one query, as published.
+    /// bound, averaged by area. 1: one query, as published.
     int parts = 1;
 };
 
