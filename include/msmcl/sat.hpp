@@ -126,7 +126,7 @@ struct SoftShadowOptions {
     /// Share k of the receiver's own reconstructed point (weight w0 at zf) that the average
     /// blocker depth counts as blockers at zf: ((eps + k w0) zf + sum w_i z_i) / (eps + k w0
     /// + sum w_i). In [0, 1]; free.
-    float receiver_blocker_weight = 0.5f;
+    float receiver_blocker_weight = 0.1f;
     /// The filter square split into filter_parts x filter_parts equal parts, each with its
     /// own 4MSM bound, averaged by area. In [1, 4]; costs a query and a 4MSM bound per part.
     int filter_parts = 2;

@@ -177,8 +177,17 @@ SoftResult PcssMap::pcss(double u, double v, double zf, const SoftParams& p) con
 
 MomentTable::MomentTable(const DepthMap& map, std::uint32_t max_kernel_texels)
     : width_(map.width), height_(map.height), scale_(sat_scale(max_kernel_texels)) {
-    const SatTexels texels = quantize_depth_map(map, scale_);
-    const std::vector<double> channels = affine_channels(map);
+    build(quantize_depth_map(map, scale_), affine_channels(map));
+}
+
+MomentTable::MomentTable(const SatTexels& texels, std::uint32_t scale)
+    : width_(texels.width), height_(texels.height), scale_(scale) {
+    std::vector<double> channels;
+    for (std::uint32_t value : texels.values) channels.push_back(double(value) / scale);
+    build(texels, channels);
+}
+
+void MomentTable::build(const SatTexels& texels, const std::vector<double>& channels) {
     const std::size_t row = 4 * (static_cast<std::size_t>(width_) + 1);
     integer_prefix_.assign(row * (height_ + 1), 0);
     channel_prefix_.assign(row * (height_ + 1), 0);

@@ -74,6 +74,9 @@ struct SoftVariant {
 class MomentTable {
 public:
     MomentTable(const DepthMap& map, std::uint32_t max_kernel_texels);
+    /// From integer texels quantized elsewhere (a device's table): then the "double
+    /// channels" are the texels / scale.
+    MomentTable(const SatTexels& texels, std::uint32_t scale);
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -89,6 +92,7 @@ public:
                            const SoftSwaps& swaps = {}, const SoftVariant& variant = {}) const;
 
 private:
+    void build(const SatTexels& texels, const std::vector<double>& channels);
     std::array<long double, 4> box_sum(int x0, int y0, int x1, int y1, bool unquantized) const;
 
     int width_ = 0, height_ = 0;
