@@ -14,7 +14,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -122,7 +121,8 @@ int run_pcss(const Inputs& in, const std::string& output) {
     return 0;
 }
 
-int run_analyse(const Inputs& in, double threshold, const std::vector<std::string>& filters) {
+int run_analyse(const Inputs& in, double threshold, const std::vector<std::string>& filters,
+                const std::vector<std::string>& shadows) {
     const Scene scene = load(in);
     const ref::PcssMap pcss_map(scene.map);
     const ref::MomentTable table(scene.map, in.max_kernel);
@@ -180,10 +180,6 @@ int run_analyse(const Inputs& in, double threshold, const std::vector<std::strin
         const ref::SoftResult m = table.soft_shadow(pcss_map, r.u[i], r.v[i], scene.zf[i], scene.params);
         const ref::SoftResult t = pcss_map.pcss(r.u[i], r.v[i], scene.zf[i], scene.params);
         umbra += m.filter_size == 0;
-        if (std::getenv("MSMCL_SOFT_DEBUG") && (i % 97 == 0))
-            std::printf("  u %.1f v %.1f zf %.4f | msm %.3f share %.3f depth %.4f side %.1f | pcss %.3f share %.3f depth %.4f side %.1f\n",
-                        r.u[i], r.v[i], scene.zf[i], m.shadow, m.blocker_shadow, m.blocker_depth, m.filter_size, t.shadow,
-                        t.blocker_shadow, t.blocker_depth, t.filter_size);
         smaller_filter += m.filter_size != 0 && m.filter_size < 0.8 * t.filter_size;
         larger_filter += m.filter_size > 1.25 * t.filter_size;
     }
@@ -214,6 +210,15 @@ int run_analyse(const Inputs& in, double threshold, const std::vector<std::strin
     }
     std::printf("fixed by no single swap: %.1f%%\n", 100 * none_alone / total);
 
+    // Device results (EXR channel Y of msmcl soft) against PCSS.
+    for (const std::string& path : shadows) {
+        const msmcl::io::ExrImage image = msmcl::io::read_exr(path);
+        const msmcl::io::ExrChannel* y = image.find_channel("Y");
+        if (!y || y->type == msmcl::io::SampleType::uint32 || y->values.size() != count)
+            throw msmcl::input_error(path + ": no FLOAT channel Y of the receivers' size");
+        const std::vector<double> shadow(y->values.begin(), y->values.end());
+        std::printf("%s vs PCSS: %s\n", path.c_str(), error_line(shadow, pcss, r.z).c_str());
+    }
     // Candidates against PCSS (double, same table): "k,parts" (see SoftVariant).
     for (const std::string& candidate : filters) {
         ref::SoftVariant variant;
@@ -250,7 +255,7 @@ int main(int argc, char** argv) {
     Inputs pcss_inputs, analyse_inputs;
     std::string output;
     double threshold = 0.2;
-    std::vector<std::string> candidates;
+    std::vector<std::string> candidates, shadows;
     CLI::App* pcss = app.add_subcommand("pcss", "PCSS of every receiver -> EXR channel Y (shadow intensity)");
     add_inputs(pcss, pcss_inputs);
     pcss->add_option("output", output, "EXR to write")->required();
@@ -259,10 +264,11 @@ int main(int argc, char** argv) {
     add_inputs(analyse, analyse_inputs);
     analyse->add_option("--threshold", threshold, "|moment - PCSS| counted as off")->capture_default_str();
     analyse->add_option("--candidate", candidates, "variants to compare: K,PARTS (receiver weight of the blocker average, filter parts per side; 0,1 = published)");
+    analyse->add_option("--shadow", shadows, "EXR (channel Y) of msmcl soft on the same receivers, to compare with PCSS");
     CLI11_PARSE(app, argc, argv);
     try {
         if (pcss->parsed()) return run_pcss(pcss_inputs, output);
-        return run_analyse(analyse_inputs, threshold, candidates);
+        return run_analyse(analyse_inputs, threshold, candidates, shadows);
     } catch (const std::exception& e) {
         std::cerr << "msmcl-soft-truth: " << e.what() << std::endl;
         return dynamic_cast<const msmcl::input_error*>(&e) ? 2 : 1;
