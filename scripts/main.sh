@@ -93,6 +93,11 @@ for entry in "${scenes[@]}"; do
   done
 done
 cat "$out/soft_vs_pcss.txt"
+# The before/after figures of docs/soft_shadows.md (matplotlib; Debian's python3).
+python=python3
+"$python" -c 'import matplotlib' 2>/dev/null || python=/usr/bin/python3
+"$python" scripts/soft_figure.py "$out" railing_1024 "$out/railing_1024_soft_vs_pcss.png" --crop 40,150,600,400
+"$python" scripts/soft_figure.py "$out" wuson_1024 "$out/wuson_1024_soft_vs_pcss.png"
 
 # Blue-noise dithering of nlq64 seen magnified (256^2 map, 640x480 view): nearest | bilinear | dither | mean of 64 frames.
 "$tools/msmcl-scene" --width 256 --samples 4 --depth "$out/railing_256_depth.exr" \

@@ -1,6 +1,6 @@
 /* The C API (include/msmcl/msmcl.h) from C, linked against the shared library: status codes
  * and messages, host filter against a double-precision reference, device paths (buffers and
- * images, no host access to the caller's objects) against the host path, shade, SAT;
+ * images, no host access to the caller's objects) against the host path, shade, SAT, soft shadows;
  * translucent layers (filter and SAT against a double reference and the bits the C++ API
  * guarantees: no or clear layers give the opaque bits, opacity 1 acts as opaque, device
  * equals host) and the dithered lookup (each result one of its texels shaded as nearest,
@@ -380,6 +380,60 @@ static void test_sat(msmcl_context* context, const float* depth) {
     clReleaseMemObject(depth_buffer);
     free(host);
     free(device);
+}
+
+/* msmcl_soft_shade: the options reach the kernel (defaults, the published method, bad
+ * values refused), a receiver in front of everything is lit, one far behind a plateau of
+ * the map (depth 0.25, a receiver at 0.95, every depth around it in front) is shadowed. */
+static void test_soft(msmcl_context* context, const float* depth) {
+    enum { RECEIVERS = 64 };
+    const size_t texels = WIDTH * HEIGHT;
+    unsigned int* table = malloc(sizeof(unsigned int) * 4 * texels);
+    float u[RECEIVERS], v[RECEIVERS], z[RECEIVERS], refined[RECEIVERS], published[RECEIVERS];
+    msmcl_sat_options sat_options;
+    msmcl_soft_options options, published_options, bad;
+    int differ = 0;
+
+    msmcl_sat_options_init(&sat_options);
+    sat_options.max_kernel_texels = 100;
+    CHECK_OK(msmcl_build_sat(context, depth, WIDTH, HEIGHT, SAMPLES, &sat_options, table, 4 * texels));
+    msmcl_soft_options_init(&options);
+    CHECK(options.light_size == 64.0f && options.search_size == 0 && options.min_filter_size == 1.0f &&
+              options.receiver_blocker_weight == 0.1f && options.filter_parts == 2 &&
+              options.depth_range == MSMCL_DEPTH_RANGE_ZERO_ONE,
+          "soft defaults");
+    options.light_size = 20.0f;
+    for (int i = 0; i < RECEIVERS; ++i) {
+        u[i] = random_unit() * WIDTH;
+        v[i] = random_unit() * HEIGHT;
+        z[i] = 0.3f + 0.7f * random_unit();
+    }
+    u[0] = 4.0f, v[0] = 4.0f, z[0] = 0.01f; /* in front of everything */
+    u[1] = 4.0f, v[1] = 12.0f, z[1] = 0.95f; /* a plateau (x / 8 + y / 8 odd) at 0.25 */
+    CHECK_OK(msmcl_soft_shade(context, table, WIDTH, HEIGHT, 100, u, v, z, RECEIVERS, &options, refined));
+    published_options = options;
+    published_options.receiver_blocker_weight = 0.0f;
+    published_options.filter_parts = 1;
+    CHECK_OK(msmcl_soft_shade(context, table, WIDTH, HEIGHT, 100, u, v, z, RECEIVERS, &published_options, published));
+    CHECK(refined[0] == 0.0f && published[0] == 0.0f, "lit receiver: %g, %g", refined[0], published[0]);
+    CHECK(refined[1] > 0.9f && published[1] > 0.9f, "shadowed receiver: %g, %g", refined[1], published[1]);
+    for (int i = 0; i < RECEIVERS; ++i) {
+        CHECK(refined[i] >= 0.0f && refined[i] <= 1.0f, "receiver %d: %g", i, refined[i]);
+        differ += refined[i] != published[i];
+    }
+    CHECK(differ > 0, "the refinements changed no receiver");
+    bad = options;
+    bad.filter_parts = 5;
+    CHECK(msmcl_soft_shade(context, table, WIDTH, HEIGHT, 100, u, v, z, RECEIVERS, &bad, refined) == MSMCL_ERROR_INPUT,
+          "5 filter parts accepted");
+    bad = options;
+    bad.receiver_blocker_weight = -1.0f;
+    CHECK(msmcl_soft_shade(context, table, WIDTH, HEIGHT, 100, u, v, z, RECEIVERS, &bad, refined) == MSMCL_ERROR_INPUT,
+          "negative receiver weight accepted");
+    CHECK(msmcl_soft_shade(context, NULL, WIDTH, HEIGHT, 100, u, v, z, RECEIVERS, &options, refined) ==
+              MSMCL_ERROR_INVALID_ARGUMENT,
+          "NULL table accepted");
+    free(table);
 }
 
 /* ---- Translucent layers */
@@ -969,6 +1023,7 @@ int main(void) {
         test_device_paths(context, depth);
         test_shade(context);
         test_sat(context, depth);
+        test_soft(context, depth);
         test_translucent_filter(context, depth);
         test_translucent_sat(context, depth);
         test_dither(context, depth);
