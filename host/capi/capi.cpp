@@ -328,6 +328,22 @@ void filter_device(msmcl_context* context, const msmcl_device_depth* depth, cons
                                plumbing);
 }
 
+// Host receivers of msmcl_shade* and msmcl_soft_shade: u, v, z and the output checked
+// (non-NULL) when there is any receiver.
+msmcl::Receivers to_receivers(const float* u, const float* v, const float* z, std::size_t count,
+                              const float* intensity, const char* call) {
+    msmcl::Receivers receivers;
+    if (count == 0) return receivers;
+    require(u, call, "u");
+    require(v, call, "v");
+    require(z, call, "z");
+    require(intensity, call, "intensity");
+    receivers.u.assign(u, u + count);
+    receivers.v.assign(v, v + count);
+    receivers.z.assign(z, z + count);
+    return receivers;
+}
+
 // msmcl_shade and msmcl_shade_with_pixels.
 void shade_host(msmcl_context* context, const msmcl_format& format, int width, int height, const void* texture,
                 std::size_t texture_bytes, const float* u, const float* v, const float* z, const uint32_t* pixel_x,
@@ -350,20 +366,11 @@ void shade_host(msmcl_context* context, const msmcl_format& format, int width, i
                                msmcl::format_name(map.format) + " texture needs " + std::to_string(needed)};
     map.words.resize(needed / sizeof(std::uint32_t));
     std::memcpy(map.words.data(), texture, needed);
-    msmcl::Receivers receivers;
+    const msmcl::Receivers receivers = to_receivers(u, v, z, count, intensity, call);
     msmcl::ReceiverPixels pixels;
-    if (count > 0) {
-        require(u, call, "u");
-        require(v, call, "v");
-        require(z, call, "z");
-        require(intensity, call, "intensity");
-        receivers.u.assign(u, u + count);
-        receivers.v.assign(v, v + count);
-        receivers.z.assign(z, z + count);
-        if (pixel_x) {
-            pixels.x.assign(pixel_x, pixel_x + count);
-            pixels.y.assign(pixel_y, pixel_y + count);
-        }
+    if (count > 0 && pixel_x) {
+        pixels.x.assign(pixel_x, pixel_x + count);
+        pixels.y.assign(pixel_y, pixel_y + count);
     }
     const std::vector<float> result = msmcl::shade(context->context, map, receivers, pixels, shade_options);
     if (count > 0) std::memcpy(intensity, result.data(), count * sizeof(float));
@@ -721,16 +728,7 @@ msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t* table, int
         sat.max_kernel_texels = max_kernel_texels;
         sat.scale = msmcl::sat_scale(max_kernel_texels);
         sat.words.assign(table, table + 4 * texel_count(width, height, call));
-        msmcl::Receivers receivers;
-        if (count > 0) {
-            require(u, call, "u");
-            require(v, call, "v");
-            require(z, call, "z");
-            require(intensity, call, "intensity");
-            receivers.u.assign(u, u + count);
-            receivers.v.assign(v, v + count);
-            receivers.z.assign(z, z + count);
-        }
+        const msmcl::Receivers receivers = to_receivers(u, v, z, count, intensity, call);
         const std::vector<float> result = msmcl::soft_shade(context->context, sat, receivers, soft_options);
         std::copy(result.begin(), result.end(), intensity);
     });
