@@ -148,6 +148,20 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     soft_command->add_option("--max-kernel", soft.max_kernel,
                              "N the table was built for (default: the table's; required for DDS tables)")
         ->type_name("N");
+    CLI::Option* receiver_weight = soft_command->add_option("--receiver-weight", soft.receiver_weight,
+                             "share of the receiver's own surface the blocker search counts as blockers at its "
+                             "depth, in [0, 1] (0 = published; docs/soft_shadows.md)")
+        ->capture_default_str()
+        ->type_name("K");
+    CLI::Option* filter_parts = soft_command->add_option("--filter-parts", soft.filter_parts,
+                             "filter square split into P x P parts, each its own 4MSM bound, P in [1, 4] "
+                             "(1 = published)")
+        ->capture_default_str()
+        ->type_name("P");
+    soft_command->add_flag("--published", soft.published,
+                           "the method of Peters et al., i3D 2016 as published: --receiver-weight 0 --filter-parts 1")
+        ->excludes(receiver_weight)
+        ->excludes(filter_parts);
     commands.soft_command = soft_command;
 }
 
@@ -210,6 +224,14 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     if (options.min_filter_size <= 0.0f)
         throw usage_error("--min-filter must be > 0, got '" + arguments.min_filter + "'");
     options.depth_bias = parse_finite_float("--depth-bias", arguments.depth_bias);
+    options.receiver_blocker_weight = parse_finite_float("--receiver-weight", arguments.receiver_weight);
+    if (options.receiver_blocker_weight < 0.0f || options.receiver_blocker_weight > 1.0f)
+        throw usage_error("--receiver-weight must be in [0, 1], got '" + arguments.receiver_weight + "'");
+    options.filter_parts = static_cast<int>(parse_integer("--filter-parts", arguments.filter_parts, 1, 4));
+    if (arguments.published) {
+        options.receiver_blocker_weight = 0.0f;
+        options.filter_parts = 1;
+    }
     std::optional<DepthRange> range;
     if (!arguments.depth_range.empty()) range = parse_depth_range_option(arguments.depth_range);
     std::optional<std::uint32_t> max_kernel;

@@ -34,6 +34,9 @@ struct SoftArguments {
     std::string depth_bias = "1e-3";
     std::string depth_range; ///< empty: the table's msmcl:depthRange
     std::string max_kernel;  ///< empty: the table's; required for DDS tables
+    std::string receiver_weight = "0.1";
+    std::string filter_parts = "2";
+    bool published = false; ///< the method as published: receiver weight 0, one filter part
 };
 
 /// The two subcommands and what they parsed.
