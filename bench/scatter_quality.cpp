@@ -132,8 +132,21 @@ ErrorFigures error_figures(const std::vector<double>& estimate, const std::vecto
     f.p99 = magnitude[static_cast<std::size_t>(0.99 * static_cast<double>(magnitude.size() - 1))];
     double energy = 0;
     std::size_t count = 0;
+    // Only where the truth is flat (its values within a 7x7 window differ by < 1e-3): there
+    // the error's high-pass is banding, not the truth's own edges.
+    const auto truth_flat = [&](int x, int y) {
+        double lo = 1e30, hi = -1e30;
+        for (int dy = -3; dy <= 3; ++dy)
+            for (int dx = -3; dx <= 3; ++dx) {
+                const int xx = std::clamp(x + dx, 0, width - 1), yy = std::clamp(y + dy, 0, height - 1);
+                lo = std::min(lo, truth[static_cast<std::size_t>(yy) * width + xx]);
+                hi = std::max(hi, truth[static_cast<std::size_t>(yy) * width + xx]);
+            }
+        return hi - lo < 1e-3;
+    };
     for (int y = 1; y + 1 < height; ++y)
         for (int x = 1; x + 1 < width; ++x) {
+            if (!truth_flat(x, y)) continue;
             double box = 0;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) box += error[static_cast<std::size_t>(y + dy) * width + x + dx];
@@ -145,10 +158,24 @@ ErrorFigures error_figures(const std::vector<double>& estimate, const std::vecto
     return f;
 }
 
+/// Candidate blends of the bounds: 0 beta as given; 1 beta = upper; 2 beta = (given + upper) / 2;
+/// 3 beta = upper^2; 4 beta = given * upper + (1 - upper) * 0.5 ...
+float blend_rule(int rule, float lower, float upper, float beta) {
+    float b = beta;
+    if (rule == 1) b = upper;
+    if (rule == 2) b = 0.5f * (beta + upper);
+    if (rule == 3) b = upper * upper;
+    if (rule == 4) b = std::max(beta, upper);
+    if (rule == 5) b = beta * upper;
+    if (rule == 6) b = std::sqrt(upper);
+    return lower + b * (upper - lower);
+}
+
 /// The device's per-pixel evaluation (kernels/msm_scatter.clh compiled for the host) on float
 /// prefix sums (`moments` per texel): what the kernel computes if the map stored floats.
 std::vector<double> evaluate_float_sums(const ScatterScene& scene, const std::vector<float>& sums, int moments,
-                                        const std::vector<float>& camera_depth, float beta, float gamma = 1.0f) {
+                                        const std::vector<float>& camera_depth, float beta, float gamma = 1.0f,
+                                        int rule = 0) {
     const msm_scatter_params p = detail::make_scatter_params(scene, rectification_bounds(scene), 1, 1, 1, beta);
     std::vector<double> radiance(camera_depth.size());
     parallel_rows(p.cam_height, [&](int py) {
@@ -169,10 +196,12 @@ std::vector<double> evaluate_float_sums(const ScatterScene& scene, const std::ve
             float shadow;
             if (moments == 6) {
                 const msm_moments6 m{b[0], b[1], b[2], b[3], b[4], b[5]};
-                shadow = msm_scatter_shadow6(m, l.depth, beta >= 0 ? beta : 0.5f - 0.5f * gamma * ray.z);
+                const float lower = msm_scatter_shadow6(m, l.depth, 0.0f), upper = msm_scatter_shadow6(m, l.depth, 1.0f);
+                shadow = blend_rule(rule, lower, upper, beta >= 0 ? beta : 0.5f - 0.5f * gamma * ray.z);
             } else {
                 const msm_moments m{b[0], b[1], b[2], b[3]};
-                shadow = msm_scatter_shadow4(m, l.depth, beta >= 0 ? beta : 0.5f - 0.5f * gamma * ray.z);
+                const float lower = msm_scatter_shadow4(m, l.depth, 0.0f), upper = msm_scatter_shadow4(m, l.depth, 1.0f);
+                shadow = blend_rule(rule, lower, upper, beta >= 0 ? beta : 0.5f - 0.5f * gamma * ray.z);
             }
             radiance[pixel] = (1.0f - shadow) * msm_scatter_unshadowed(p, ray, distance);
         }
@@ -298,6 +327,33 @@ std::vector<float> prefix_sums_per_row(const ScatterScene& scene, const std::vec
     return sums;
 }
 
+/// Six-moment float sums quantized to the unorm10 words with a per-texel, per-channel offset
+/// in [-amplitude/2, amplitude/2) codes before rounding (0: the kernel's rounding), decoded.
+std::vector<float> quantize6_dithered(const std::vector<float>& sums, float amplitude) {
+    std::vector<float> out(sums.size());
+    for (std::size_t t = 0; t < sums.size() / 6; ++t) {
+        const float* b = &sums[t * 6];
+        float c[6] = {2.5f * b[0] - 10.0f * b[2] + 8.0f * b[4] + 0.5f,
+                      -1.87499864f * b[0] + 4.20757543f * b[2] - 1.83257679f * b[4] + 0.5f,
+                      1.26583039f * b[0] - 1.47644883f * b[2] + 0.71061660f * b[4] + 0.5f,
+                      4.0f * b[1] - 4.0f * b[3],
+                      9.0f * b[1] - 24.0f * b[3] + 16.0f * b[5],
+                      -0.57759806f * b[1] + 4.61936648f * b[3] - 3.07953907f * b[5] + 0.018888946f};
+        unsigned words[2] = {0, 0};
+        for (int k = 0; k < 6; ++k) {
+            std::uint32_t h = static_cast<std::uint32_t>(t) * 0x9E3779B1u ^ static_cast<std::uint32_t>(k) * 0x85EBCA77u;
+            h ^= h >> 15; h *= 0x2C1B3C6Du; h ^= h >> 12; h *= 0x297A2D39u; h ^= h >> 15;
+            const float noise = amplitude * ((h >> 8) / 16777216.0f - 0.5f);
+            const float code = std::clamp(std::floor(c[k] * 1023.0f + 0.5f + noise), 0.0f, 1023.0f);
+            words[k / 3] |= static_cast<unsigned>(code) << (10 * (k % 3));
+        }
+        const msm_moments6 m = msm_decode_moments6(msm_word_pair{words[0], words[1]});
+        const float v[6] = {m.b1, m.b2, m.b3, m.b4, m.b5, m.b6};
+        std::copy(v, v + 6, out.begin() + t * 6);
+    }
+    return out;
+}
+
 struct StudyOptions {
     std::string scene_path, json_path, dump_dir;
     int map_size = 1024, camera_width = 640, camera_height = 480, rectified = 1024, steps = 1024;
@@ -360,7 +416,17 @@ int run_study(const StudyOptions& options) {
                evaluate_float_sums(scene, scatter_rectified_moments(context, scene, shadow, defaults, true), moments,
                                    camera, defaults.beta));
         const std::vector<float> float_sums = scatter_rectified_moments(context, scene, shadow, defaults, true);
-        for (float gamma : {0.75f, 0.5f, 0.25f, 0.0f}) {
+        if (moments == 6)
+            for (float amplitude : {0.0f, 1.0f, 2.0f}) {
+                char name[64];
+                std::snprintf(name, sizeof name, ": host quantized, dither %g", amplitude);
+                report(m + name, moments, evaluate_float_sums(scene, quantize6_dithered(float_sums, amplitude), 6, camera, -1.0f));
+            }
+        for (int rule : {1, 2, 3, 4, 5, 6}) {
+            report(m + ": blend rule " + std::to_string(rule), moments, evaluate_float_sums(scene, float_sums, moments, camera, -1.0f, 1.0f, rule));
+            report(m + ": blend rule " + std::to_string(rule) + " gamma 0.5", moments, evaluate_float_sums(scene, float_sums, moments, camera, -1.0f, 0.5f, rule));
+        }
+        for (float gamma : {0.75f, 0.5f}) {
             char name[64];
             std::snprintf(name, sizeof name, ": adaptive beta, gamma %g", gamma);
             report(m + name, moments, evaluate_float_sums(scene, float_sums, moments, camera, -1.0f, gamma));

@@ -521,7 +521,7 @@ double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectificatio
         b[k] = (1 - ty) * ((1 - tx) * at(x0, y0)[k] + tx * at(x1, y0)[k]) + ty * ((1 - tx) * at(x0, y1)[k] + tx * at(x1, y1)[k]);
     const double zf = rectified_depth(rect, rc.x);
     const double cos_towards_light = -dot(direction, light_axes(setup).z);
-    const double blend = beta >= 0 ? beta : 0.5 * (1 + cos_towards_light);
+    const double adaptive = 0.5 * (1 + cos_towards_light);
     Bounds bounds;
     if (moments == 4) {
         // The msm64 bias of the four-moment map.
@@ -538,7 +538,9 @@ double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectificatio
         bounds.lower = (mixture.lower - alpha * bias_below) / (1 - alpha);
         bounds.upper = (mixture.upper - alpha * bias_below) / (1 - alpha);
     }
-    const double shadow = std::clamp(bounds.lower + blend * (bounds.upper - bounds.lower), 0.0, 1.0);
+    // Fixed beta: beta upper + (1 - beta) lower. Adaptive: the weight scaled by the upper bound.
+    const double weight = beta >= 0 ? beta : adaptive * std::clamp(bounds.upper, 0.0, 1.0);
+    const double shadow = std::clamp(bounds.lower + weight * (bounds.upper - bounds.lower), 0.0, 1.0);
     const double s = setup.extinction;
     return (1 - shadow) * henyey_greenstein(setup.phase_g, cos_towards_light) * setup.irradiance *
            (1 - std::exp(-s * length)) / s;

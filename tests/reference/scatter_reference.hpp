@@ -150,7 +150,8 @@ RectifiedDepths resample_filtered_depths(const ScatterSetup& setup, const Scatte
 
 /// The prefiltered estimate of a pixel in double: exact prefix-summed moments `sums`
 /// (rect_width x rect_height, row-major, 6 per texel), bilinear lookup as the device does,
-/// bounds blend with beta (negative: adaptive), from 4 moments (msm64 bias) or 6 (bias 4e-3
+/// bounds blend with beta (negative: adaptive, (1 + cos) / 2 of the angle between the view ray and
+/// the direction towards the light, times the upper bound), from 4 moments (msm64 bias) or 6 (bias 4e-3
 /// towards the arcsine distribution, whose share below zf is then taken out again).
 double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectification& rect,
                            const std::vector<Moments6>& sums, int moments, double beta, int px, int py,
