@@ -8,8 +8,18 @@
 //     its exact or finer counterpart (rectified resolution, float storage of the prefix sums,
 //     the exact share of the resampled distribution instead of the bounds blend, the sigma of
 //     the filtered resampling), each against ray marching: mean and 99th percentile of
-//     |lit fraction error| and the banding measure (RMS of the error's high-pass component).
+//     |lit fraction error| and the banding measure (RMS of the error's high-pass component
+//     where the truth is flat).
+//
+//   msmcl-scatter-quality compare SCENE.json SHADOW.exr CAMERA.exr [--steps 1024] [--truth TRUTH.exr]
+//                         [--range 0.25] RESULT.exr:DIFF.png ...
+//     The main job's images: ray marching of the hard shadow map in double (all cores) as the
+//     truth, and for each result of `msmcl scatter` the signed difference of its lit fraction
+//     from the truth's (tools/signed_difference.hpp: red lighter, blue darker, full colour at
+//     +-range, legend bar below), with one line of figures per result.
 #include "tools/scatter_geometry.hpp"
+#include "tools/signed_difference.hpp"
+#include "io/exr_io.hpp"
 #include "io/scene_json.hpp"
 #include "ops/scatter_params.hpp"
 #include "reference/scatter_reference.hpp"
@@ -158,25 +168,12 @@ ErrorFigures error_figures(const std::vector<double>& estimate, const std::vecto
     return f;
 }
 
-/// Candidate blends of the bounds: 0 beta as given; 1 beta = upper; 2 beta = (given + upper) / 2;
-/// 3 beta = upper^2; 4 beta = given * upper + (1 - upper) * 0.5 ...
-float blend_rule(int rule, float lower, float upper, float beta) {
-    float b = beta;
-    if (rule == 1) b = upper;
-    if (rule == 2) b = 0.5f * (beta + upper);
-    if (rule == 3) b = upper * upper;
-    if (rule == 4) b = std::max(beta, upper);
-    if (rule == 5) b = beta * upper;
-    if (rule == 6) b = std::sqrt(upper);
-    return lower + b * (upper - lower);
-}
-
 /// The device's per-pixel evaluation (kernels/msm_scatter.clh compiled for the host) on float
 /// prefix sums (`moments` per texel): what the kernel computes if the map stored floats.
 std::vector<double> evaluate_float_sums(const ScatterScene& scene, const std::vector<float>& sums, int moments,
-                                        const std::vector<float>& camera_depth, float beta, float gamma = 1.0f,
-                                        int rule = 0) {
-    const msm_scatter_params p = detail::make_scatter_params(scene, rectification_bounds(scene), 1, 1, 1, beta);
+                                        const std::vector<float>& camera_depth, float beta, bool gdc_blend = false) {
+    const msm_scatter_params p =
+        detail::make_scatter_params(scene, rectification_bounds(scene), 1, 1, 1, gdc_blend ? -1.0f : beta);
     std::vector<double> radiance(camera_depth.size());
     parallel_rows(p.cam_height, [&](int py) {
         for (int px = 0; px < p.cam_width; ++px) {
@@ -193,15 +190,16 @@ std::vector<double> evaluate_float_sums(const ScatterScene& scene, const std::ve
                 const float bottom = msm_lerp(texel(l.x0, l.y1, k), texel(l.x1, l.y1, k), l.tx);
                 b[k] = msm_lerp(top, bottom, l.ty);
             }
+            // gdc_blend: the adaptive factor itself as the fixed blend of this ray (the GDC Europe
+            // 2016 talk's blend, msmcl's default before it scaled the factor by the upper bound).
+            const float blend = gdc_blend ? -msm_scatter_beta(p, ray) : msm_scatter_beta(p, ray);
             float shadow;
             if (moments == 6) {
                 const msm_moments6 m{b[0], b[1], b[2], b[3], b[4], b[5]};
-                const float lower = msm_scatter_shadow6(m, l.depth, 0.0f), upper = msm_scatter_shadow6(m, l.depth, 1.0f);
-                shadow = blend_rule(rule, lower, upper, beta >= 0 ? beta : 0.5f - 0.5f * gamma * ray.z);
+                shadow = msm_scatter_shadow6(m, l.depth, blend);
             } else {
                 const msm_moments m{b[0], b[1], b[2], b[3]};
-                const float lower = msm_scatter_shadow4(m, l.depth, 0.0f), upper = msm_scatter_shadow4(m, l.depth, 1.0f);
-                shadow = blend_rule(rule, lower, upper, beta >= 0 ? beta : 0.5f - 0.5f * gamma * ray.z);
+                shadow = msm_scatter_shadow4(m, l.depth, blend);
             }
             radiance[pixel] = (1.0f - shadow) * msm_scatter_unshadowed(p, ray, distance);
         }
@@ -213,8 +211,7 @@ std::vector<double> evaluate_float_sums(const ScatterScene& scene, const std::ve
 /// distributions (reference resampling of the device's moments128 map) below each pixel's
 /// rectified depth, looked up as the device looks up the map (bilinear in r and phi).
 std::vector<double> evaluate_exact_share(const ScatterScene& scene, const Texture& moment_map,
-                                         const std::vector<float>& camera_depth, int weights_mode) {
-    const bool per_ray_weights = weights_mode == 1;
+                                         const std::vector<float>& camera_depth, bool per_ray_weights) {
     const RectificationBounds bounds = rectification_bounds(scene);
     const msm_scatter_params p = detail::make_scatter_params(scene, bounds, 1, 1, 1, -1.0f);
     const ref::ScatterSetup setup = setup_of(scene);
@@ -236,30 +233,11 @@ std::vector<double> evaluate_exact_share(const ScatterScene& scene, const Textur
     // Relative prefix weights exp(-s D i) (their common factor cancels).
     std::vector<double> weight(width);
     for (int i = 0; i < width; ++i) weight[i] = std::exp(-scene.medium.extinction * bounds.texel_distance * i);
-    // Mode 2: per row, the mean of 1 / sin(theta) over the camera pixels whose azimuth falls in it.
-    std::vector<double> row_decay(height, std::exp(-scene.medium.extinction * bounds.texel_distance));
-    if (weights_mode == 2) {
-        std::vector<double> inverse_sine_sum(height, 0.0), count(height, 0.0);
-        for (int py = 0; py < p.cam_height; ++py)
-            for (int px = 0; px < p.cam_width; ++px) {
-                const msm_view_ray ray = msm_scatter_view_ray(p, px, py);
-                const msm_scatter_lookup l = msm_scatter_lookup_at(p, ray, 1.0f);
-                const double sine = std::max(std::sqrt(double(ray.x) * ray.x + double(ray.y) * ray.y), 1e-3);
-                inverse_sine_sum[l.y0] += (1 - l.ty) / sine;
-                count[l.y0] += 1 - l.ty;
-                inverse_sine_sum[l.y1] += l.ty / sine;
-                count[l.y1] += l.ty;
-            }
-        for (int j = 0; j < height; ++j)
-            if (count[j] > 0)
-                row_decay[j] = std::exp(-scene.medium.extinction * bounds.r_max / width * inverse_sine_sum[j] / count[j]);
-    }
     const auto shadow_at = [&](int column, int row, double zf, double decay) {
-        if (weights_mode == 2) decay = row_decay[row];
         double below = 0, total = 0, w = 1;
         for (int i = 0; i <= column; ++i) {
             const ref::RectifiedDepths& d = texels[static_cast<std::size_t>(row) * width + i];
-            const double wi = per_ray_weights || weights_mode == 2 ? w : weight[i];
+            const double wi = per_ray_weights ? w : weight[i];
             below += wi * ((d.d2 < zf ? 1 - d.w3 : 0) + (d.d3 < zf ? d.w3 : 0));
             total += wi;
             w *= decay;
@@ -283,75 +261,6 @@ std::vector<double> evaluate_exact_share(const ScatterScene& scene, const Textur
         }
     });
     return radiance;
-}
-
-/// Mean of 1 / sin(theta) over the camera pixels whose lookups fall in each rectified row.
-std::vector<double> row_inverse_sines(const ScatterScene& scene) {
-    const msm_scatter_params p = detail::make_scatter_params(scene, rectification_bounds(scene), 1, 1, 1, -1.0f);
-    std::vector<double> sum(p.rect_height, 0.0), count(p.rect_height, 0.0);
-    for (int py = 0; py < p.cam_height; ++py)
-        for (int px = 0; px < p.cam_width; ++px) {
-            const msm_view_ray ray = msm_scatter_view_ray(p, px, py);
-            const msm_scatter_lookup l = msm_scatter_lookup_at(p, ray, 1.0f);
-            const double sine = std::max(std::sqrt(double(ray.x) * ray.x + double(ray.y) * ray.y), 1e-3);
-            sum[l.y0] += (1 - l.ty) / sine;
-            count[l.y0] += 1 - l.ty;
-            sum[l.y1] += l.ty / sine;
-            count[l.y1] += l.ty;
-        }
-    double all = 0, all_count = 0;
-    for (int j = 0; j < p.rect_height; ++j) all += sum[j], all_count += count[j];
-    for (int j = 0; j < p.rect_height; ++j) sum[j] = count[j] > 0 ? sum[j] / count[j] : all / all_count;
-    return sum;
-}
-
-/// Prefix sums of resampled moments with per-row transmittance weights (host, double).
-std::vector<float> prefix_sums_per_row(const ScatterScene& scene, const std::vector<float>& resampled, int moments) {
-    const RectificationBounds bounds = rectification_bounds(scene);
-    const std::vector<double> inverse_sine = row_inverse_sines(scene);
-    const int width = scene.rectified_width;
-    std::vector<float> sums(resampled.size());
-    for (int j = 0; j < scene.rectified_height; ++j) {
-        const double decay = std::exp(-scene.medium.extinction * bounds.r_max / width * inverse_sine[j]);
-        double w = 1, total = 0, acc[6] = {0, 0, 0, 0, 0, 0};
-        for (int i = 0; i < width; ++i) {
-            const std::size_t t = (static_cast<std::size_t>(j) * width + i) * moments;
-            total += w;
-            for (int k = 0; k < moments; ++k) {
-                acc[k] += w * resampled[t + k];
-                sums[t + k] = static_cast<float>(acc[k] / total);
-            }
-            w *= decay;
-        }
-    }
-    return sums;
-}
-
-/// Six-moment float sums quantized to the unorm10 words with a per-texel, per-channel offset
-/// in [-amplitude/2, amplitude/2) codes before rounding (0: the kernel's rounding), decoded.
-std::vector<float> quantize6_dithered(const std::vector<float>& sums, float amplitude) {
-    std::vector<float> out(sums.size());
-    for (std::size_t t = 0; t < sums.size() / 6; ++t) {
-        const float* b = &sums[t * 6];
-        float c[6] = {2.5f * b[0] - 10.0f * b[2] + 8.0f * b[4] + 0.5f,
-                      -1.87499864f * b[0] + 4.20757543f * b[2] - 1.83257679f * b[4] + 0.5f,
-                      1.26583039f * b[0] - 1.47644883f * b[2] + 0.71061660f * b[4] + 0.5f,
-                      4.0f * b[1] - 4.0f * b[3],
-                      9.0f * b[1] - 24.0f * b[3] + 16.0f * b[5],
-                      -0.57759806f * b[1] + 4.61936648f * b[3] - 3.07953907f * b[5] + 0.018888946f};
-        unsigned words[2] = {0, 0};
-        for (int k = 0; k < 6; ++k) {
-            std::uint32_t h = static_cast<std::uint32_t>(t) * 0x9E3779B1u ^ static_cast<std::uint32_t>(k) * 0x85EBCA77u;
-            h ^= h >> 15; h *= 0x2C1B3C6Du; h ^= h >> 12; h *= 0x297A2D39u; h ^= h >> 15;
-            const float noise = amplitude * ((h >> 8) / 16777216.0f - 0.5f);
-            const float code = std::clamp(std::floor(c[k] * 1023.0f + 0.5f + noise), 0.0f, 1023.0f);
-            words[k / 3] |= static_cast<unsigned>(code) << (10 * (k % 3));
-        }
-        const msm_moments6 m = msm_decode_moments6(msm_word_pair{words[0], words[1]});
-        const float v[6] = {m.b1, m.b2, m.b3, m.b4, m.b5, m.b6};
-        std::copy(v, v + 6, out.begin() + t * 6);
-    }
-    return out;
 }
 
 struct StudyOptions {
@@ -415,30 +324,9 @@ int run_study(const StudyOptions& options) {
         report(m + ": float storage", moments,
                evaluate_float_sums(scene, scatter_rectified_moments(context, scene, shadow, defaults, true), moments,
                                    camera, defaults.beta));
-        const std::vector<float> float_sums = scatter_rectified_moments(context, scene, shadow, defaults, true);
-        if (moments == 6)
-            for (float amplitude : {0.0f, 1.0f, 2.0f}) {
-                char name[64];
-                std::snprintf(name, sizeof name, ": host quantized, dither %g", amplitude);
-                report(m + name, moments, evaluate_float_sums(scene, quantize6_dithered(float_sums, amplitude), 6, camera, -1.0f));
-            }
-        for (int rule : {1, 2, 3, 4, 5, 6}) {
-            report(m + ": blend rule " + std::to_string(rule), moments, evaluate_float_sums(scene, float_sums, moments, camera, -1.0f, 1.0f, rule));
-            report(m + ": blend rule " + std::to_string(rule) + " gamma 0.5", moments, evaluate_float_sums(scene, float_sums, moments, camera, -1.0f, 0.5f, rule));
-        }
-        for (float gamma : {0.75f, 0.5f}) {
-            char name[64];
-            std::snprintf(name, sizeof name, ": adaptive beta, gamma %g", gamma);
-            report(m + name, moments, evaluate_float_sums(scene, float_sums, moments, camera, -1.0f, gamma));
-        }
-        const std::vector<float> row_sums =
-            prefix_sums_per_row(scene, scatter_rectified_moments(context, scene, shadow, defaults, false), moments);
-        report(m + ": per-row weights (float)", moments, evaluate_float_sums(scene, row_sums, moments, camera, -1.0f));
-        for (float gamma : {0.5f, 0.25f}) {
-            char name[64];
-            std::snprintf(name, sizeof name, ": per-row weights, gamma %g", gamma);
-            report(m + name, moments, evaluate_float_sums(scene, row_sums, moments, camera, -1.0f, gamma));
-        }
+        // The bounds blend of the GDC Europe 2016 talk (the default before), on the same map.
+        report(m + ": blend (1 + cos) / 2, unscaled", moments,
+               evaluate_float_sums(scene, decode_scatter_map(map), moments, camera, -1.0f, true));
         // Rectified resolution doubled along r, along phi, both.
         for (const auto& [name, wide, tall] : {std::tuple{"2x r", 2, 1}, {"2x phi", 1, 2}, {"2x both", 2, 2}}) {
             ScatterScene finer = scene;
@@ -471,14 +359,70 @@ int run_study(const StudyOptions& options) {
     filter_options.sigma = ScatterOptions{}.filter_sigma;
     filter_options.depth_range = scene.light.depth_range;
     const Texture moment_map = filter(context, shadow, filter_options);
-    report("exact share of the resampled distribution", 0, evaluate_exact_share(scene, moment_map, camera, 0));
-    report("exact share, per-ray transmittance weights", 0, evaluate_exact_share(scene, moment_map, camera, 1));
-    report("exact share, per-row mean weights", 0, evaluate_exact_share(scene, moment_map, camera, 2));
+    report("exact share of the resampled distribution", 0, evaluate_exact_share(scene, moment_map, camera, false));
+    report("exact share, per-ray transmittance weights", 0, evaluate_exact_share(scene, moment_map, camera, true));
     if (!options.json_path.empty()) {
         const nlohmann::json document{{"scene", options.scene_path}, {"yaw", options.yaw},
                                       {"map_size", options.map_size}, {"camera", {width, height}},
                                       {"rectified", options.rectified}, {"steps", options.steps}, {"rows", rows}};
         std::ofstream(options.json_path) << document.dump(2) << '\n';
+    }
+    return 0;
+}
+
+struct CompareOptions {
+    std::string scene_path, shadow_path, camera_path, truth_path;
+    int steps = 1024;
+    double range = 0.25;
+    std::vector<std::string> pairs;
+};
+
+int run_compare(const CompareOptions& options) {
+    ScatterScene scene;
+    try {
+        scene = parse_scatter_scene(read_text(options.scene_path));
+    } catch (const input_error& e) {
+        throw input_error(options.scene_path + ": " + e.what());
+    }
+    const DepthImage shadow = io::read_depth_exr(options.shadow_path, scene.light.depth_range);
+    const io::ExrImage camera_image = io::read_exr(options.camera_path);
+    const io::ExrChannel* z = camera_image.find_channel("Z");
+    if (!z || z->values.size() != static_cast<std::size_t>(scene.camera.width) * scene.camera.height)
+        throw input_error(options.camera_path + ": needs a channel Z of the scene's camera size");
+    // Every result and its image name, checked before the work.
+    std::vector<std::pair<std::string, std::string>> results;
+    for (const std::string& pair : options.pairs) {
+        const std::size_t colon = pair.rfind(':');
+        if (colon == std::string::npos || colon == 0 || colon + 1 == pair.size())
+            throw input_error(pair + ": expected RESULT.exr:DIFF.png");
+        results.emplace_back(pair.substr(0, colon), pair.substr(colon + 1));
+    }
+    const ref::ScatterSetup setup = setup_of(scene);
+    const std::vector<float>& camera = z->values;
+    const std::vector<double> marched = ref::ray_march_image(setup, depth_map_of(shadow, scene), camera, options.steps);
+    if (!options.truth_path.empty()) {
+        io::ExrImage truth_image;
+        truth_image.width = scene.camera.width;
+        truth_image.height = scene.camera.height;
+        truth_image.channels = {{"Y", io::SampleType::float32, std::vector<float>(marched.begin(), marched.end()), {}}};
+        io::write_exr(options.truth_path, truth_image);
+    }
+    const std::vector<double> truth = lit_fractions(setup, camera, marched);
+    for (const auto& [result_path, png_path] : results) {
+        const io::ExrImage image = io::read_exr(result_path);
+        const io::ExrChannel* y = image.find_channel("Y");
+        if (!y || y->values.size() != truth.size())
+            throw input_error(result_path + ": needs a channel Y of the scene's camera size");
+        const std::vector<double> lit = lit_fractions(setup, camera, to_double(y->values));
+        // The lit fractions' signed difference, drawn, and its figures.
+        const std::vector<double> difference = tools::signed_difference(
+            std::vector<float>(lit.begin(), lit.end()), std::vector<float>(truth.begin(), truth.end()),
+            tools::Quantity::light);
+        tools::write_signed_difference_png(png_path, scene.camera.width, scene.camera.height, difference,
+                                           options.range);
+        const ErrorFigures f = error_figures(lit, truth, scene.camera.width, scene.camera.height);
+        std::printf("%s vs %d-sample ray marching, lit fraction: mean %.4f, p99 %.4f, banding %.5f -> %s\n",
+                    result_path.c_str(), options.steps, f.mean, f.p99, f.banding, png_path.c_str());
     }
     return 0;
 }
@@ -501,8 +445,21 @@ int main(int argc, char** argv) {
         ->expected(3)->delimiter(',');
     study_command->add_option("--json", study.json_path, "also write the rows as JSON");
     study_command->add_option("--dump", study.dump_dir, "write every lit-fraction image as raw doubles into this folder");
+    CompareOptions compare;
+    CLI::App* compare_command =
+        app.add_subcommand("compare", "signed-difference images of msmcl scatter results against ray marching");
+    compare_command->add_option("scene", compare.scene_path, "scene JSON as rendered (msmcl-scatter-scene --write-scene)")->required();
+    compare_command->add_option("shadow_map", compare.shadow_path, "light depth map EXR")->required();
+    compare_command->add_option("camera_depth", compare.camera_path, "camera depth buffer EXR")->required();
+    compare_command->add_option("results", compare.pairs, "RESULT.exr:DIFF.png, one per result")->required();
+    compare_command->add_option("--steps", compare.steps, "ray-marching samples of the truth")->capture_default_str()->check(CLI::Range(1, 1 << 16));
+    compare_command->add_option("--truth", compare.truth_path, "also write the truth's radiance (EXR Y)");
+    compare_command->add_option("--range", compare.range, "|lit fraction difference| drawn in full colour")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     CLI11_PARSE(app, argc, argv);
     try {
+        if (compare_command->parsed()) return run_compare(compare);
         return run_study(study);
     } catch (const std::exception& e) {
         std::cerr << "msmcl-scatter-quality: " << e.what() << std::endl;
