@@ -897,10 +897,11 @@ struct msm_moments6 {
 msm_moments6 msm_decode_moments6(vec4 odd, vec4 even) {
     float r0 = odd.x - 0.5f;
     float g0 = odd.y - 0.5f;
-    float b0 = odd.z - 0.5f;
+    // Blue: 12 bits, the top 10 in B, the low 2 in A (msm_scatter.clh, msm_pack_unorm10).
+    float b0 = (odd.z + odd.w / 1364.0f) - 0.5f;
     float r1 = even.x;
     float g1 = even.y;
-    float b1 = even.z - MSM_SIX_OFFSET_B1;
+    float b1 = (even.z + even.w / 1364.0f) - MSM_SIX_OFFSET_B1;
     msm_moments6 m;
     m.b1 = -0.0287778902855f * r0 + 0.476355509863f * g0 + 1.55242809336f * b0;
     m.b3 = 0.099952358754f * r0 + 0.845325814122f * g0 + 1.05472570851f * b0;
