@@ -23,6 +23,7 @@
 #include "io/scene_json.hpp"
 #include "ops/scatter_params.hpp"
 #include "reference/scatter_reference.hpp"
+#include "tests/scatter_setup.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -57,35 +58,8 @@ std::string read_text(const std::string& path) {
     return text.str();
 }
 
-/// The reference's view of a scene.
-ref::ScatterSetup setup_of(const ScatterScene& s) {
-    ref::ScatterSetup r;
-    r.light_direction = s.light.direction;
-    r.light_up = s.light.up;
-    r.light_center = s.light.center;
-    r.light_width = s.light.width;
-    r.light_height = s.light.height;
-    r.light_near = s.light.near;
-    r.light_far = s.light.far;
-    r.light_zero_one = s.light.depth_range == DepthRange::zero_one;
-    r.camera_position = s.camera.position;
-    r.camera_forward = s.camera.forward;
-    r.camera_up = s.camera.up;
-    r.fov_y_degrees = s.camera.vertical_fov_degrees;
-    r.camera_near = s.camera.near;
-    r.camera_far = s.camera.far;
-    r.camera_width = s.camera.width;
-    r.camera_height = s.camera.height;
-    r.camera_depth_mode = s.camera.depth == CameraDepth::zero_one        ? 0
-                          : s.camera.depth == CameraDepth::minus_one_one ? 1
-                                                                         : 2;
-    r.extinction = s.medium.extinction;
-    r.phase_g = s.medium.phase_g;
-    r.irradiance = s.medium.irradiance;
-    r.rect_width = s.rectified_width;
-    r.rect_height = s.rectified_height;
-    return r;
-}
+using msmcl::testing::rectification_of;
+using msmcl::testing::setup_of;
 
 ref::DepthMap depth_map_of(const DepthImage& image, const ScatterScene& scene) {
     ref::DepthMap map;
@@ -106,6 +80,20 @@ void parallel_rows(int rows, const std::function<void(int)>& f) {
             for (int row = w; row < rows; row += count) f(row);
         });
     for (std::thread& worker : workers) worker.join();
+}
+
+/// f(pixel, ray, distance, lookup) for every camera pixel, on all cores: the view ray, its
+/// length and where it lands in the rectified map, as the device's evaluation finds them.
+void for_each_lookup(const msm_scatter_params& p, const std::vector<float>& camera_depth,
+                     const std::function<void(std::size_t, const msm_view_ray&, float, const msm_scatter_lookup&)>& f) {
+    parallel_rows(p.cam_height, [&](int py) {
+        for (int px = 0; px < p.cam_width; ++px) {
+            const std::size_t pixel = static_cast<std::size_t>(py) * p.cam_width + px;
+            const msm_view_ray ray = msm_scatter_view_ray(p, px, py);
+            const float distance = msm_scatter_eye_depth(p, camera_depth[pixel]) * ray.length_scale;
+            f(pixel, ray, distance, msm_scatter_lookup_at(p, ray, distance));
+        }
+    });
 }
 
 /// Lit fractions: radiance / the radiance of the fully lit view ray, pixel by pixel.
@@ -175,34 +163,29 @@ std::vector<double> evaluate_float_sums(const ScatterScene& scene, const std::ve
     const msm_scatter_params p =
         detail::make_scatter_params(scene, rectification_bounds(scene), 1, 1, 1, gdc_blend ? -1.0f : beta);
     std::vector<double> radiance(camera_depth.size());
-    parallel_rows(p.cam_height, [&](int py) {
-        for (int px = 0; px < p.cam_width; ++px) {
-            const std::size_t pixel = static_cast<std::size_t>(py) * p.cam_width + px;
-            const msm_view_ray ray = msm_scatter_view_ray(p, px, py);
-            const float distance = msm_scatter_eye_depth(p, camera_depth[pixel]) * ray.length_scale;
-            const msm_scatter_lookup l = msm_scatter_lookup_at(p, ray, distance);
-            const auto texel = [&](int x, int y, int k) {
-                return sums[(static_cast<std::size_t>(y) * p.rect_width + x) * moments + k];
-            };
-            float b[6] = {0, 0, 0, 0, 0, 0};
-            for (int k = 0; k < moments; ++k) {
-                const float top = msm_lerp(texel(l.x0, l.y0, k), texel(l.x1, l.y0, k), l.tx);
-                const float bottom = msm_lerp(texel(l.x0, l.y1, k), texel(l.x1, l.y1, k), l.tx);
-                b[k] = msm_lerp(top, bottom, l.ty);
-            }
-            // gdc_blend: the adaptive factor itself as the fixed blend of this ray (the GDC Europe
-            // 2016 talk's blend, msmcl's default before it scaled the factor by the upper bound).
-            const float blend = gdc_blend ? -msm_scatter_beta(p, ray) : msm_scatter_beta(p, ray);
-            float shadow;
-            if (moments == 6) {
-                const msm_moments6 m{b[0], b[1], b[2], b[3], b[4], b[5]};
-                shadow = msm_scatter_shadow6(m, l.depth, blend);
-            } else {
-                const msm_moments m{b[0], b[1], b[2], b[3]};
-                shadow = msm_scatter_shadow4(m, l.depth, blend);
-            }
-            radiance[pixel] = (1.0f - shadow) * msm_scatter_unshadowed(p, ray, distance);
+    for_each_lookup(p, camera_depth, [&](std::size_t pixel, const msm_view_ray& ray, float distance,
+                                         const msm_scatter_lookup& l) {
+        const auto texel = [&](int x, int y, int k) {
+            return sums[(static_cast<std::size_t>(y) * p.rect_width + x) * moments + k];
+        };
+        float b[6] = {0, 0, 0, 0, 0, 0};
+        for (int k = 0; k < moments; ++k) {
+            const float top = msm_lerp(texel(l.x0, l.y0, k), texel(l.x1, l.y0, k), l.tx);
+            const float bottom = msm_lerp(texel(l.x0, l.y1, k), texel(l.x1, l.y1, k), l.tx);
+            b[k] = msm_lerp(top, bottom, l.ty);
         }
+        // gdc_blend: the adaptive factor itself as the fixed blend of this ray (the GDC Europe
+        // 2016 talk's blend, msmcl's default before it scaled the factor by the upper bound).
+        const float blend = gdc_blend ? -msm_scatter_beta(p, ray) : msm_scatter_beta(p, ray);
+        float shadow;
+        if (moments == 6) {
+            const msm_moments6 m{b[0], b[1], b[2], b[3], b[4], b[5]};
+            shadow = msm_scatter_shadow6(m, l.depth, blend);
+        } else {
+            const msm_moments m{b[0], b[1], b[2], b[3]};
+            shadow = msm_scatter_shadow4(m, l.depth, blend);
+        }
+        radiance[pixel] = (1.0f - shadow) * msm_scatter_unshadowed(p, ray, distance);
     });
     return radiance;
 }
@@ -215,8 +198,7 @@ std::vector<double> evaluate_exact_share(const ScatterScene& scene, const Textur
     const RectificationBounds bounds = rectification_bounds(scene);
     const msm_scatter_params p = detail::make_scatter_params(scene, bounds, 1, 1, 1, -1.0f);
     const ref::ScatterSetup setup = setup_of(scene);
-    const ref::ScatterRectification rect{bounds.r_max,     bounds.phi_min,   bounds.phi_range,     bounds.full_circle,
-                                         bounds.depth_min, bounds.depth_max, bounds.texel_distance};
+    const ref::ScatterRectification rect = rectification_of(bounds);
     std::vector<ref::Moments> moments(static_cast<std::size_t>(moment_map.width) * moment_map.height);
     for (int y = 0; y < moment_map.height; ++y)
         for (int x = 0; x < moment_map.width; ++x)
@@ -245,20 +227,16 @@ std::vector<double> evaluate_exact_share(const ScatterScene& scene, const Textur
         return below / total;
     };
     std::vector<double> radiance(camera_depth.size());
-    parallel_rows(p.cam_height, [&](int py) {
-        for (int px = 0; px < p.cam_width; ++px) {
-            const std::size_t pixel = static_cast<std::size_t>(py) * p.cam_width + px;
-            const msm_view_ray ray = msm_scatter_view_ray(p, px, py);
-            const float distance = msm_scatter_eye_depth(p, camera_depth[pixel]) * ray.length_scale;
-            const msm_scatter_lookup l = msm_scatter_lookup_at(p, ray, distance);
-            // Per ray: world distance per texel step dr / sin(theta) of this view ray.
-            const double sine = std::max(std::sqrt(double(ray.x) * ray.x + double(ray.y) * ray.y), 1e-6);
-            const double decay = std::exp(-scene.medium.extinction * bounds.r_max / width / sine);
-            const double top = (1 - l.tx) * shadow_at(l.x0, l.y0, l.depth, decay) + l.tx * shadow_at(l.x1, l.y0, l.depth, decay);
-            const double bottom = (1 - l.tx) * shadow_at(l.x0, l.y1, l.depth, decay) + l.tx * shadow_at(l.x1, l.y1, l.depth, decay);
-            const double shadow = (1 - l.ty) * top + l.ty * bottom;
-            radiance[pixel] = (1 - shadow) * msm_scatter_unshadowed(p, ray, distance);
-        }
+    for_each_lookup(p, camera_depth, [&](std::size_t pixel, const msm_view_ray& ray, float distance,
+                                         const msm_scatter_lookup& l) {
+        // Per ray: world distance per texel step dr / sin(theta) of this view ray.
+        const double sine = std::max(std::sqrt(double(ray.x) * ray.x + double(ray.y) * ray.y), 1e-6);
+        const double decay = std::exp(-scene.medium.extinction * bounds.r_max / width / sine);
+        const double top = (1 - l.tx) * shadow_at(l.x0, l.y0, l.depth, decay) + l.tx * shadow_at(l.x1, l.y0, l.depth, decay);
+        const double bottom =
+            (1 - l.tx) * shadow_at(l.x0, l.y1, l.depth, decay) + l.tx * shadow_at(l.x1, l.y1, l.depth, decay);
+        const double shadow = (1 - l.ty) * top + l.ty * bottom;
+        radiance[pixel] = (1 - shadow) * msm_scatter_unshadowed(p, ray, distance);
     });
     return radiance;
 }

@@ -8,6 +8,7 @@
 #include "ops/scatter_params.hpp"
 #include "reference/filter_reference.hpp"
 #include "reference/scatter_reference.hpp"
+#include "scatter_setup.hpp"
 #include "seeded_test.hpp"
 
 #include <msmcl/context.hpp>
@@ -45,39 +46,8 @@ std::string read_text(const std::string& path) {
 
 std::string sample_path(const std::string& name) { return std::string(MSMCL_SOURCE_DIR) + "/data/scatter/" + name; }
 
-/// The reference's view of a scene.
-ref::ScatterSetup setup_of(const ScatterScene& s) {
-    ref::ScatterSetup r;
-    r.light_direction = s.light.direction;
-    r.light_up = s.light.up;
-    r.light_center = s.light.center;
-    r.light_width = s.light.width;
-    r.light_height = s.light.height;
-    r.light_near = s.light.near;
-    r.light_far = s.light.far;
-    r.light_zero_one = s.light.depth_range == msmcl::DepthRange::zero_one;
-    r.camera_position = s.camera.position;
-    r.camera_forward = s.camera.forward;
-    r.camera_up = s.camera.up;
-    r.fov_y_degrees = s.camera.vertical_fov_degrees;
-    r.camera_near = s.camera.near;
-    r.camera_far = s.camera.far;
-    r.camera_width = s.camera.width;
-    r.camera_height = s.camera.height;
-    r.camera_depth_mode = s.camera.depth == msmcl::CameraDepth::zero_one        ? 0
-                          : s.camera.depth == msmcl::CameraDepth::minus_one_one ? 1
-                                                                                : 2;
-    r.extinction = s.medium.extinction;
-    r.phase_g = s.medium.phase_g;
-    r.irradiance = s.medium.irradiance;
-    r.rect_width = s.rectified_width;
-    r.rect_height = s.rectified_height;
-    return r;
-}
-
-ref::ScatterRectification rectification_of(const msmcl::RectificationBounds& b) {
-    return {b.r_max, b.phi_min, b.phi_range, b.full_circle, b.depth_min, b.depth_max, b.texel_distance};
-}
+using msmcl::testing::rectification_of;
+using msmcl::testing::setup_of;
 
 /// A random scene: light from anywhere, camera anywhere looking anywhere.
 ScatterScene random_scene(std::mt19937& rng) {
