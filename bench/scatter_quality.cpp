@@ -40,7 +40,6 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -49,14 +48,6 @@ namespace {
 
 using namespace msmcl;
 namespace ref = msmcl::reference;
-
-std::string read_text(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw input_error(path + ": cannot open");
-    std::ostringstream text;
-    text << file.rdbuf();
-    return text.str();
-}
 
 using msmcl::testing::rectification_of;
 using msmcl::testing::setup_of;
@@ -69,6 +60,13 @@ ref::DepthMap depth_map_of(const DepthImage& image, const ScatterScene& scene) {
     map.depth = image.depth;
     map.zero_one = scene.light.depth_range == DepthRange::zero_one;
     return map;
+}
+
+/// A number as %g prints it.
+std::string number_text(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", x);
+    return text;
 }
 
 /// Runs f(row) for every row on all hardware threads.
@@ -249,9 +247,8 @@ struct StudyOptions {
 };
 
 int run_study(const StudyOptions& options) {
-    const std::string text = read_text(options.scene_path);
-    ScatterScene scene = parse_scatter_scene(text);
-    const scatter_data::Geometry geometry = scatter_data::parse_geometry(text);
+    ScatterScene scene = load_scatter_scene(options.scene_path);
+    const scatter_data::Geometry geometry = scatter_data::load_geometry(options.scene_path);
     scene.camera.width = options.camera_width;
     scene.camera.height = options.camera_height;
     scene.rectified_width = scene.rectified_height = options.rectified;
@@ -312,25 +309,21 @@ int run_study(const StudyOptions& options) {
             finer.rectified_height *= tall;
             report(m + ": rectified " + name, moments, to_double(scatter(context, finer, shadow, camera, defaults)));
         }
-        // The filtered resampling's sigma (0: bilinear samples of the unblurred moments).
+        // The filtered resampling's sigma (0: bilinear samples of the unblurred moments),
+        // unfiltered resampling, and fixed blends of the bounds.
+        std::vector<std::pair<std::string, ScatterOptions>> swaps;
         for (float sigma : {0.0f, 0.5f, 2.0f}) {
-            ScatterOptions o = defaults;
-            o.filter_sigma = sigma;
-            char name[64];
-            std::snprintf(name, sizeof name, ": sigma %g", sigma);
-            report(m + name, moments, to_double(scatter(context, scene, shadow, camera, o)));
+            swaps.emplace_back(": sigma " + number_text(sigma), defaults);
+            swaps.back().second.filter_sigma = sigma;
         }
-        ScatterOptions unfiltered = defaults;
-        unfiltered.filtered = false;
-        report(m + ": unfiltered resampling", moments, to_double(scatter(context, scene, shadow, camera, unfiltered)));
-        // The bounds blend: fixed beta, and no bounds at all (exact share of the distribution).
+        swaps.emplace_back(": unfiltered resampling", defaults);
+        swaps.back().second.filtered = false;
         for (float beta : {0.0f, 0.5f, 1.0f}) {
-            ScatterOptions o = defaults;
-            o.beta = beta;
-            char name[64];
-            std::snprintf(name, sizeof name, ": beta %g", beta);
-            report(m + name, moments, to_double(scatter(context, scene, shadow, camera, o)));
+            swaps.emplace_back(": beta " + number_text(beta), defaults);
+            swaps.back().second.beta = beta;
         }
+        for (const auto& [name, o] : swaps)
+            report(m + name, moments, to_double(scatter(context, scene, shadow, camera, o)));
     }
     FilterOptions filter_options;
     filter_options.format = Format::moments128;
@@ -356,12 +349,7 @@ struct CompareOptions {
 };
 
 int run_compare(const CompareOptions& options) {
-    ScatterScene scene;
-    try {
-        scene = parse_scatter_scene(read_text(options.scene_path));
-    } catch (const input_error& e) {
-        throw input_error(options.scene_path + ": " + e.what());
-    }
+    const ScatterScene scene = load_scatter_scene(options.scene_path);
     const DepthImage shadow = io::read_depth_exr(options.shadow_path, scene.light.depth_range);
     const io::ExrImage camera_image = io::read_exr(options.camera_path);
     const io::ExrChannel* z = camera_image.find_channel("Z");
