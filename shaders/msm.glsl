@@ -983,7 +983,7 @@ float msm_newton_expectation(msm_moments6 b, float z0, float z1, float z2, float
     return p0 + p1 * b.b1 + p2 * b.b2 + p3 * b.b3;
 }
 
-// Six-moment bounds from biased moments: lower + beta w0 (four-moment bounds where the
+// Six-moment bounds from biased moments: lower and w0, unclamped (four-moment bounds where the
 // quantized moments are not valid).
 msm_hamburger_bounds msm_hamburger6_bounds(msm_moments6 b, float zf) {
     float d11 = b.b2 - b.b1 * b.b1;
