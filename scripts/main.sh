@@ -12,7 +12,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 
 # Build the CLI and the sample-data tools; generate the larger sample scenes (1024^2).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-signed-difference msmcl-soft-truth msmcl-scatter-scene msmcl-quality msmcl-vulkan
+cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-signed-difference msmcl-soft-truth msmcl-scatter-scene msmcl-quality msmcl-scatter-quality msmcl-vulkan
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
 tools=$build/tools
@@ -136,6 +136,13 @@ for entry in hall:0.3 pergola:1.5; do
   "$msmcl" scatter "$out/${name}_scene.json" "$out/${name}_shadow.exr" "$out/${name}_camera.exr" \
     "$out/${name}_marched128.exr" --ray-march 128
   "$tools/msmcl-preview" "$out/${name}_marched128.exr" "$out/${name}_marched128.png" --white "$white"
+  # Against 1024-sample ray marching (double precision, all cores): the signed difference of
+  # the lit fraction of each view ray, red lighter / blue darker than the truth, full colour
+  # at +-0.1 (colour map and legend: tools/signed_difference.hpp).
+  "$build/bench/msmcl-scatter-quality" compare "$out/${name}_scene.json" "$out/${name}_shadow.exr" \
+    "$out/${name}_camera.exr" --steps 1024 --range 0.1 --truth "$out/${name}_marched1024.exr" \
+    "$out/${name}_scatter6.exr:$out/${name}_scatter6_diff.png" "$out/${name}_scatter4.exr:$out/${name}_scatter4_diff.png"
+  "$tools/msmcl-preview" "$out/${name}_marched1024.exr" "$out/${name}_marched1024.png" --white "$white"
 done
 
 # The quality table on the 1024^2 scenes: every format and VSM against 128-bit moments and

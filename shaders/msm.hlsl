@@ -902,10 +902,11 @@ struct msm_moments6 {
 msm_moments6 msm_decode_moments6(float4 odd, float4 even) {
     float r0 = odd.x - 0.5f;
     float g0 = odd.y - 0.5f;
-    float b0 = odd.z - 0.5f;
+    // Blue: 12 bits, the top 10 in B, the low 2 in A (msm_scatter.clh, msm_pack_unorm10).
+    float b0 = (odd.z + odd.w / 1364.0f) - 0.5f;
     float r1 = even.x;
     float g1 = even.y;
-    float b1 = even.z - MSM_SIX_OFFSET_B1;
+    float b1 = (even.z + even.w / 1364.0f) - MSM_SIX_OFFSET_B1;
     msm_moments6 m;
     m.b1 = -0.0287778902855f * r0 + 0.476355509863f * g0 + 1.55242809336f * b0;
     m.b3 = 0.099952358754f * r0 + 0.845325814122f * g0 + 1.05472570851f * b0;
@@ -969,11 +970,34 @@ msm_moments msm_moments6_first4(msm_moments6 a) {
     return m;
 }
 
-// Six-moment bounds from biased moments: lower + beta w0 (four-moment bounds where the
+// Expectation under the moments b of the cubic through (z0, f0), (z1, f1), (z2, f2), (z3, f3).
+float msm_newton_expectation(msm_moments6 b, float z0, float z1, float z2, float z3, float f0, float f1,
+                             float f2, float f3) {
+    float f01 = (f1 - f0) / msm_node_gap(z1, z0);
+    float f12 = (f2 - f1) / msm_node_gap(z2, z1);
+    float f23 = (f3 - f2) / msm_node_gap(z3, z2);
+    float f012 = (f12 - f01) / msm_node_gap(z2, z0);
+    float f123 = (f23 - f12) / msm_node_gap(z3, z1);
+    float f0123 = (f123 - f012) / msm_node_gap(z3, z0);
+    // p(x) = f0 + f01 (x - z0) + f012 (x - z0)(x - z1) + f0123 (x - z0)(x - z1)(x - z2) in the
+    // monomial basis, then E p = p0 + p1 b1 + p2 b2 + p3 b3.
+    float p3 = f0123;
+    float p2 = f012 - f0123 * (z0 + z1 + z2);
+    float p1 = f01 - f012 * (z0 + z1) + f0123 * (z0 * z1 + z0 * z2 + z1 * z2);
+    float p0 = f0 - f01 * z0 + f012 * z0 * z1 - f0123 * z0 * z1 * z2;
+    return p0 + p1 * b.b1 + p2 * b.b2 + p3 * b.b3;
+}
+
+// Six-moment bounds from biased moments: lower and w0, unclamped (four-moment bounds where the
 // quantized moments are not valid).
-float msm_hamburger6_blend(msm_moments6 b, float zf, float beta) {
+msm_hamburger_bounds msm_hamburger6_bounds(msm_moments6 b, float zf) {
     float d11 = b.b2 - b.b1 * b.b1;
-    if (!(d11 > 0.0f)) return zf > b.b1 ? 1.0f : (zf == b.b1 ? beta : 0.0f);
+    if (!(d11 > 0.0f)) {
+        msm_hamburger_bounds step;
+        step.lower = zf > b.b1 ? 1.0f : 0.0f;
+        step.w0 = zf == b.b1 ? 1.0f : 0.0f;
+        return step;
+    }
     float inv_d11 = 1.0f / d11;
     float l21_d11 = b.b3 - b.b1 * b.b2;
     float l21 = l21_d11 * inv_d11;
@@ -985,8 +1009,7 @@ float msm_hamburger6_blend(msm_moments6 b, float zf, float beta) {
     float l32 = l32_d22 * inv_d22;
     float d33 = (b.b6 - b.b3 * b.b3) - l31_d11 * l31 - l32_d22 * l32;
     if (!(d33 > MSM_SCATTER_MIN_D33)) {
-        msm_hamburger_bounds bounds = msm_hamburger4(msm_moments6_first4(b), zf);
-        return clamp(bounds.lower + beta * bounds.w0, 0.0f, 1.0f);
+        return msm_hamburger4(msm_moments6_first4(b), zf);
     }
     float z0 = zf;
     float c1 = z0 - b.b1;
@@ -1033,21 +1056,30 @@ float msm_hamburger6_blend(msm_moments6 b, float zf, float beta) {
         z2 = z3;
         z3 = t;
     }
-    float f0 = beta;
+    // Newton polynomials through (z0, f0), (zk, [zk < z0]): with f0 = 0 the expectation is the
+    // lower bound, with f0 = 1 the upper one.
     float f1 = z1 < z0 ? 1.0f : 0.0f;
     float f2 = z2 < z0 ? 1.0f : 0.0f;
     float f3 = z3 < z0 ? 1.0f : 0.0f;
-    float f01 = (f1 - f0) / msm_node_gap(z1, z0);
-    float f12 = (f2 - f1) / msm_node_gap(z2, z1);
-    float f23 = (f3 - f2) / msm_node_gap(z3, z2);
-    float f012 = (f12 - f01) / msm_node_gap(z2, z0);
-    float f123 = (f23 - f12) / msm_node_gap(z3, z1);
-    float f0123 = (f123 - f012) / msm_node_gap(z3, z0);
-    float p3 = f0123;
-    float p2 = f012 - f0123 * (z0 + z1 + z2);
-    float p1 = f01 - f012 * (z0 + z1) + f0123 * (z0 * z1 + z0 * z2 + z1 * z2);
-    float p0 = f0 - f01 * z0 + f012 * z0 * z1 - f0123 * z0 * z1 * z2;
-    return clamp(p0 + p1 * b.b1 + p2 * b.b2 + p3 * b.b3, 0.0f, 1.0f);
+    msm_hamburger_bounds bounds;
+    bounds.lower = msm_newton_expectation(b, z0, z1, z2, z3, 0.0f, f1, f2, f3);
+    bounds.w0 = msm_newton_expectation(b, z0, z1, z2, z3, 1.0f, f1, f2, f3) - bounds.lower;
+    return bounds;
+}
+
+// The bounds blended, lower + beta w0, clamped to [0, 1].
+float msm_hamburger6_blend(msm_moments6 b, float zf, float beta) {
+    msm_hamburger_bounds bounds = msm_hamburger6_bounds(b, zf);
+    return clamp(bounds.lower + beta * bounds.w0, 0.0f, 1.0f);
+}
+
+// The weight of the bounds' gap: shadow = lower + weight (upper - lower). beta >= 0: beta,
+// i.e. beta upper + (1 - beta) lower. beta < 0 (adaptive, msm_scatter_beta): -beta scaled by
+// the upper bound itself: a view ray the upper bound calls mostly lit leans to the lower
+// bound, one it calls dark (walls between it and the light) to the upper one (docs/math.md;
+// docs/methods.md, "Scattering quality", has the measurements).
+float msm_scatter_gap_weight(float beta, float upper) {
+    return beta >= 0.0f ? beta : -beta * upper;
 }
 
 msm_moments6 msm_scatter_bias6(msm_moments6 b) {
@@ -1067,15 +1099,19 @@ msm_moments6 msm_scatter_bias6(msm_moments6 b) {
 // (arcsine on [-1, 1]) has the share 1/2 + asin(zf) / pi below zf: taken out again, so the
 // bounds are those of the stored moments (no uniform leak of up to alpha in full shadow).
 float msm_scatter_shadow6(msm_moments6 unbiased, float zf, float beta) {
-    float mixture = msm_hamburger6_blend(msm_scatter_bias6(unbiased), zf, beta);
+    msm_hamburger_bounds mixture = msm_hamburger6_bounds(msm_scatter_bias6(unbiased), zf);
     float bias_share_below = 0.5f + asin(clamp(zf, -1.0f, 1.0f)) / MSM_PI;
-    return clamp((mixture - MSM_SCATTER_ALPHA6 * bias_share_below) / (1.0f - MSM_SCATTER_ALPHA6), 0.0f, 1.0f);
+    float upper = clamp((mixture.lower + mixture.w0 - MSM_SCATTER_ALPHA6 * bias_share_below) / (1.0f - MSM_SCATTER_ALPHA6),
+                        0.0f, 1.0f);
+    float blend = clamp(mixture.lower + msm_scatter_gap_weight(beta, upper) * mixture.w0, 0.0f, 1.0f);
+    return clamp((blend - MSM_SCATTER_ALPHA6 * bias_share_below) / (1.0f - MSM_SCATTER_ALPHA6), 0.0f, 1.0f);
 }
 
 // Four moments (msm64 layout): the msm64 bias and the Hamburger 4MSM bounds.
 float msm_scatter_shadow4(msm_moments unbiased, float zf, float beta) {
     msm_hamburger_bounds bounds = msm_hamburger4(msm_bias(unbiased, MSM_ALPHA_MSM64, MSM_BSTAR_MSM64), zf);
-    return clamp(bounds.lower + beta * bounds.w0, 0.0f, 1.0f);
+    float weight = msm_scatter_gap_weight(beta, clamp(bounds.lower + bounds.w0, 0.0f, 1.0f));
+    return clamp(bounds.lower + weight * bounds.w0, 0.0f, 1.0f);
 }
 
 #endif

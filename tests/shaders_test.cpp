@@ -273,8 +273,8 @@ bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
         static msm_moments6 decode_moments6(msm_word_pair w) {                                                       \
             const auto unorm10 = [](unsigned word, int c) { return float((word >> (10 * c)) & 1023u) / 1023.0f; };  \
             const ns::msm_moments6 m = ns::msm_decode_moments6(                                                      \
-                vec4_t(unorm10(w.odd, 0), unorm10(w.odd, 1), unorm10(w.odd, 2), 1.0f),                              \
-                vec4_t(unorm10(w.even, 0), unorm10(w.even, 1), unorm10(w.even, 2), 1.0f));                          \
+                vec4_t(unorm10(w.odd, 0), unorm10(w.odd, 1), unorm10(w.odd, 2), float(w.odd >> 30) / 3.0f),         \
+                vec4_t(unorm10(w.even, 0), unorm10(w.even, 1), unorm10(w.even, 2), float(w.even >> 30) / 3.0f));     \
             return msm_moments6{m.b1, m.b2, m.b3, m.b4, m.b5, m.b6};                                                 \
         }                                                                                                            \
         static float hamburger6_blend(const msm_moments6& b, float zf, float beta) {                                 \

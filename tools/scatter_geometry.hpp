@@ -15,7 +15,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -174,6 +176,19 @@ inline std::vector<float> render_camera_depth(const ScatterScene& scene, const G
             depth[static_cast<std::size_t>(py) * camera.width + px] = static_cast<float>(value);
         }
     return depth;
+}
+
+/// parse_geometry of a scene file; errors read "<path>: <problem>".
+inline Geometry load_geometry(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw input_error(path + ": cannot open");
+    std::ostringstream text;
+    text << file.rdbuf();
+    try {
+        return parse_geometry(text.str());
+    } catch (const input_error& e) {
+        throw input_error(path + ": " + e.what());
+    }
 }
 
 /// The scene with the camera turned about the world's y axis by `degrees` (positive: to the

@@ -120,8 +120,9 @@ struct ScatterOptions {
     /// Gaussian sigma (texels) of the moments128 map that filtered resampling samples
     /// (msmcl::filter); 0 = bilinear interpolation of the resolved moments only.
     float filter_sigma = 1.0f;
-    /// shadow = beta * upper + (1 - beta) * lower bound; negative: adaptive
-    /// beta = (1 + dot(towards light, view direction)) / 2 (Peters, GDC Europe 2016).
+    /// shadow = beta * upper + (1 - beta) * lower bound; negative: adaptive, the weight
+    /// (1 + dot(towards light, view direction)) / 2 of Peters, GDC Europe 2016, times the upper
+    /// bound itself (docs/math.md).
     float beta = -1.0f;
     /// The prefilter's distribution of a row over work-items.
     ScatterKernel kernel = ScatterKernel::automatic;

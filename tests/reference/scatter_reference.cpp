@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 namespace msmcl::reference {
 
@@ -248,8 +249,9 @@ void light_ray_texel(const ScatterSetup& setup, int map_width, int map_height, d
 
 } // namespace
 
-Moments6 resample_filtered(const ScatterSetup& setup, const ScatterRectification& rect,
-                           const std::vector<Moments>& moment_map, int map_width, int map_height, int i, int j) {
+RectifiedDepths resample_filtered_depths(const ScatterSetup& setup, const ScatterRectification& rect,
+                                         const std::vector<Moments>& moment_map, int map_width, int map_height, int i,
+                                         int j) {
     double r, phi, u, v;
     texel_ray(rect, setup, i, j, r, phi);
     light_ray_texel(setup, map_width, map_height, r, phi, u, v);
@@ -269,10 +271,20 @@ Moments6 resample_filtered(const ScatterSetup& setup, const ScatterRectification
             b[2] += w * m.b3;
         }
     const TwoDepths t = two_depths(b[0], b[1], b[2]);
-    const Moments6 m2 = moments6_of(occluder_rectified_depth(setup, rect, r, phi, t.z2));
-    const Moments6 m3 = moments6_of(occluder_rectified_depth(setup, rect, r, phi, t.z3));
+    RectifiedDepths d;
+    d.d2 = occluder_rectified_depth(setup, rect, r, phi, t.z2);
+    d.d3 = occluder_rectified_depth(setup, rect, r, phi, t.z3);
+    d.w3 = t.w3;
+    return d;
+}
+
+Moments6 resample_filtered(const ScatterSetup& setup, const ScatterRectification& rect,
+                           const std::vector<Moments>& moment_map, int map_width, int map_height, int i, int j) {
+    const RectifiedDepths d = resample_filtered_depths(setup, rect, moment_map, map_width, map_height, i, j);
+    const Moments6 m2 = moments6_of(d.d2);
+    const Moments6 m3 = moments6_of(d.d3);
     Moments6 out;
-    for (int k = 0; k < 6; ++k) out[k] = (1 - t.w3) * m2[k] + t.w3 * m3[k];
+    for (int k = 0; k < 6; ++k) out[k] = (1 - d.w3) * m2[k] + d.w3 * m3[k];
     return out;
 }
 
@@ -409,6 +421,71 @@ double ray_march(const ScatterSetup& setup, const DepthMap& depth, int px, int p
     return henyey_greenstein(setup.phase_g, cos_angle) * setup.irradiance * sum;
 }
 
+std::vector<double> ray_march_image(const ScatterSetup& setup, const DepthMap& depth,
+                                    const std::vector<float>& camera_depth, int steps, int threads) {
+    if (steps < 1) throw std::invalid_argument("ray_march_image: steps must be >= 1");
+    const std::size_t pixels = static_cast<std::size_t>(setup.camera_width) * setup.camera_height;
+    if (camera_depth.size() != pixels) throw std::invalid_argument("ray_march_image: camera depth size");
+    std::vector<double> radiance(pixels);
+    const Axes light = light_axes(setup);
+    // Map point of the camera and of a unit step along each light axis (map_point is affine).
+    const MapPoint origin = map_point(setup, depth.width, depth.height, setup.camera_position);
+    const auto map_step = [&](const Vec3& direction) {
+        const MapPoint m = map_point(setup, depth.width, depth.height, add(setup.camera_position, direction));
+        return Vec3{m.u - origin.u, m.v - origin.v, m.z - origin.z};
+    };
+    const auto march_row = [&](int py) {
+        for (int px = 0; px < setup.camera_width; ++px) {
+            const std::size_t pixel = static_cast<std::size_t>(py) * setup.camera_width + px;
+            const Vec3 direction = view_direction(setup, px + 0.5, py + 0.5);
+            const double length = ray_length(setup, px + 0.5, py + 0.5, camera_depth[pixel]);
+            const double segment = length / steps;
+            const Vec3 per_unit = map_step(direction);
+            // Transmittance at the segment's start, and its factor per segment.
+            const double s = setup.extinction, factor = std::exp(-s * segment);
+            double transmittance = 1, sum = 0;
+            for (int k = 0; k < steps; ++k) {
+                const double t = (k + 0.5) * segment;
+                const double u = origin.u + t * per_unit[0], v = origin.v + t * per_unit[1];
+                const double z = origin.z + t * per_unit[2];
+                const double x = std::floor(u), y = std::floor(v);
+                double lit = z <= 1 ? 1 : 0;
+                if (x >= 0 && y >= 0 && x < depth.width && y < depth.height) {
+                    const float* texel = depth.depth.data() +
+                                         (static_cast<std::size_t>(y) * depth.width + static_cast<std::size_t>(x)) *
+                                             depth.samples;
+                    int count = 0;
+                    for (int i = 0; i < depth.samples; ++i) count += z <= internal_depth(texel[i], depth.zero_one) ? 1 : 0;
+                    lit = static_cast<double>(count) / depth.samples;
+                }
+                sum += lit * transmittance;
+                transmittance *= factor;
+            }
+            const double cos_angle = -dot(direction, light.z);
+            radiance[pixel] =
+                henyey_greenstein(setup.phase_g, cos_angle) * setup.irradiance * sum * -std::expm1(-s * segment) / s;
+        }
+    };
+    // Rows dealt out round-robin to the threads.
+    const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+    const int count = std::max(1, std::min(threads > 0 ? threads : static_cast<int>(hardware), setup.camera_height));
+    std::vector<std::thread> workers;
+    for (int w = 0; w < count; ++w)
+        workers.emplace_back([&, w] {
+            for (int py = w; py < setup.camera_height; py += count) march_row(py);
+        });
+    for (std::thread& worker : workers) worker.join();
+    return radiance;
+}
+
+double unshadowed_radiance(const ScatterSetup& setup, int px, int py, double depth_value) {
+    const Vec3 direction = view_direction(setup, px + 0.5, py + 0.5);
+    const double length = ray_length(setup, px + 0.5, py + 0.5, depth_value);
+    const double s = setup.extinction;
+    return henyey_greenstein(setup.phase_g, -dot(direction, light_axes(setup).z)) * setup.irradiance *
+           -std::expm1(-s * length) / s;
+}
+
 double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectification& rect,
                            const std::vector<Moments6>& sums, int moments, double beta, int px, int py,
                            double depth_value) {
@@ -444,7 +521,7 @@ double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectificatio
         b[k] = (1 - ty) * ((1 - tx) * at(x0, y0)[k] + tx * at(x1, y0)[k]) + ty * ((1 - tx) * at(x0, y1)[k] + tx * at(x1, y1)[k]);
     const double zf = rectified_depth(rect, rc.x);
     const double cos_towards_light = -dot(direction, light_axes(setup).z);
-    const double blend = beta >= 0 ? beta : 0.5 * (1 + cos_towards_light);
+    const double adaptive = 0.5 * (1 + cos_towards_light);
     Bounds bounds;
     if (moments == 4) {
         // The msm64 bias of the four-moment map.
@@ -461,7 +538,9 @@ double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectificatio
         bounds.lower = (mixture.lower - alpha * bias_below) / (1 - alpha);
         bounds.upper = (mixture.upper - alpha * bias_below) / (1 - alpha);
     }
-    const double shadow = std::clamp(bounds.lower + blend * (bounds.upper - bounds.lower), 0.0, 1.0);
+    // Fixed beta: beta upper + (1 - beta) lower. Adaptive: the weight scaled by the upper bound.
+    const double weight = beta >= 0 ? beta : adaptive * std::clamp(bounds.upper, 0.0, 1.0);
+    const double shadow = std::clamp(bounds.lower + weight * (bounds.upper - bounds.lower), 0.0, 1.0);
     const double s = setup.extinction;
     return (1 - shadow) * henyey_greenstein(setup.phase_g, cos_towards_light) * setup.irradiance *
            (1 - std::exp(-s * length)) / s;

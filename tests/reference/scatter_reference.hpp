@@ -131,9 +131,31 @@ double henyey_greenstein(double g, double cos_angle);
 /// integration (segments of at most a tenth of a shadow-map texel's width).
 double ray_march(const ScatterSetup& setup, const DepthMap& depth, int px, int py, double depth_value, int steps);
 
+/// ray_march for every pixel of the camera (`camera_depth`, row-major, one value per pixel),
+/// on `threads` threads (0: all hardware threads). The same sampling as ray_march, with the
+/// map coordinates and the transmittance stepped incrementally (equal to ray_march within
+/// rounding; tests/scatter_test.cpp checks it): the ground truth of the quality tools.
+std::vector<double> ray_march_image(const ScatterSetup& setup, const DepthMap& depth,
+                                    const std::vector<float>& camera_depth, int steps, int threads = 0);
+
+/// f E (1 - exp(-s t)) / s for pixel (px, py) whose view ray has length t: the radiance of a
+/// fully lit view ray, which the lit fraction of a result divides by.
+double unshadowed_radiance(const ScatterSetup& setup, int px, int py, double depth_value);
+
+/// The two depths of Algorithm 1 that resample_filtered stores for rectified texel (i, j),
+/// converted to rectified depths (d2 with weight 1 - w3, d3 with weight w3): the
+/// distribution whose moments the prefiltered map holds.
+struct RectifiedDepths {
+    double d2 = 0, d3 = 0, w3 = 0;
+};
+RectifiedDepths resample_filtered_depths(const ScatterSetup& setup, const ScatterRectification& rect,
+                                         const std::vector<Moments>& moment_map, int map_width, int map_height, int i,
+                                         int j);
+
 /// The prefiltered estimate of a pixel in double: exact prefix-summed moments `sums`
 /// (rect_width x rect_height, row-major, 6 per texel), bilinear lookup as the device does,
-/// bounds blend with beta (negative: adaptive), from 4 moments (msm64 bias) or 6 (bias 4e-3
+/// bounds blend with beta (negative: adaptive, (1 + cos) / 2 of the angle between the view ray and
+/// the direction towards the light, times the upper bound), from 4 moments (msm64 bias) or 6 (bias 4e-3
 /// towards the arcsine distribution, whose share below zf is then taken out again).
 double prefiltered_radiance(const ScatterSetup& setup, const ScatterRectification& rect,
                            const std::vector<Moments6>& sums, int moments, double beta, int px, int py,
