@@ -1,0 +1,339 @@
+// Texture arrays: filter and build_sat of a layered depth map (N maps of one size, layer
+// after layer) give, layer for layer, the bits of N single-map calls, on the host and the
+// device paths, with every filter kernel, format and table distribution, translucent
+// layers included; bad layer counts and buffers are input_error. The single-map calls
+// themselves are checked against the double-precision reference in filter_test, sat_test
+// and translucent_test, so bit equality here carries that check over to the arrays.
+#include "filter_fixtures.hpp"
+#include "seeded_test.hpp"
+
+#include <msmcl/context.hpp>
+#include <msmcl/errors.hpp>
+#include <msmcl/filter.hpp>
+#include <msmcl/msmcl.h>
+#include <msmcl/sat.hpp>
+#include <msmcl/shade.hpp>
+
+#include <gtest/gtest.h>
+
+#include <climits>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace {
+
+using msmcl::Context;
+using msmcl::DepthImage;
+using msmcl::DepthRange;
+using msmcl::DeviceDepth;
+using msmcl::DeviceLayers;
+using msmcl::FilterKernel;
+using msmcl::FilterOptions;
+using msmcl::Format;
+using msmcl::SatKernel;
+using msmcl::SatOptions;
+using msmcl::SatTable;
+using msmcl::Texture;
+using msmcl::TranslucentLayer;
+
+// Odd sizes: no multiple of any tile, block or band.
+constexpr int kWidth = 45;
+constexpr int kHeight = 37;
+
+// `count` different depth maps of one size, and the texture array holding them.
+struct Stack {
+    std::vector<DepthImage> maps;
+    DepthImage layered;
+};
+
+Stack make_stack(int width, int height, int samples, int count, DepthRange range, std::uint32_t seed) {
+    Stack stack;
+    stack.layered = DepthImage{width, height, samples, {}, count};
+    for (int i = 0; i < count; ++i) {
+        stack.maps.push_back(filter_fixtures::make_depth(width, height, samples, range, seed + 7919u * i));
+        const std::vector<float>& depth = stack.maps.back().depth;
+        stack.layered.depth.insert(stack.layered.depth.end(), depth.begin(), depth.end());
+    }
+    return stack;
+}
+
+// `count` translucent layers over each map of `stack`: random depths in the range and
+// opacities in [0, 1] (a quarter of them 0: no surface); per map, and the same stacked
+// into layered TranslucentLayers (each holding every array layer's slice).
+struct TranslucentStack {
+    std::vector<std::vector<TranslucentLayer>> per_map;
+    std::vector<TranslucentLayer> layered;
+};
+
+TranslucentStack make_translucent(const Stack& stack, int count, DepthRange range, std::uint32_t seed) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> depth(range == DepthRange::zero_one ? 0.0f : -1.0f, 1.0f);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    TranslucentStack out;
+    out.layered.resize(static_cast<std::size_t>(count));
+    for (const DepthImage& map : stack.maps) {
+        std::vector<TranslucentLayer> layers(static_cast<std::size_t>(count));
+        for (int k = 0; k < count; ++k) {
+            TranslucentLayer& layer = layers[static_cast<std::size_t>(k)];
+            for (std::size_t i = 0; i < map.depth.size(); ++i) {
+                layer.depth.push_back(depth(random));
+                const float a = unit(random);
+                layer.opacity.push_back(a < 0.25f ? 0.0f : a);
+            }
+            TranslucentLayer& all = out.layered[static_cast<std::size_t>(k)];
+            all.depth.insert(all.depth.end(), layer.depth.begin(), layer.depth.end());
+            all.opacity.insert(all.opacity.end(), layer.opacity.begin(), layer.opacity.end());
+        }
+        out.per_map.push_back(std::move(layers));
+    }
+    return out;
+}
+
+// Layer i of the texture array equals `single` word for word (first difference reported).
+void expect_layer_equal(const std::vector<std::uint32_t>& array_words, std::size_t layer_words, int layer,
+                        const std::vector<std::uint32_t>& single, const std::string& what) {
+    ASSERT_EQ(single.size(), layer_words) << what;
+    for (std::size_t i = 0; i < layer_words; ++i) {
+        const std::uint32_t got = array_words[static_cast<std::size_t>(layer) * layer_words + i];
+        ASSERT_EQ(got, single[i]) << what << ": array layer " << layer << " word " << i << " differs";
+    }
+}
+
+// One Context for the suite (PoCL builds programs per Context).
+class ArrayTest : public msmcl::testing::DeviceSuite<ArrayTest, 20160216u> {};
+
+// ---- filter, host path: every kernel and format, per-layer calls bit for bit.
+
+class ArrayFilter : public ArrayTest, public ::testing::WithParamInterface<std::tuple<FilterKernel, Format>> {};
+
+TEST_P(ArrayFilter, HostArrayMatchesPerLayerCalls) {
+    const auto [kernel, format] = GetParam();
+    try {
+        msmcl::filter_kernel_for(context(), kernel);
+    } catch (const msmcl::device_error& e) {
+        GTEST_SKIP() << "the device cannot run " << msmcl::filter_kernel_name(kernel) << ": " << e.what();
+    }
+    // The other depth convention for the unshifted formats, S = 4 (S = 1 for three_pass, whose
+    // resolve is per texel and needs no second sample count to be covered).
+    const DepthRange range = format == Format::msm64 ? DepthRange::minus_one_one : DepthRange::zero_one;
+    const int samples = kernel == FilterKernel::three_pass ? 1 : 4;
+    const Stack stack = make_stack(kWidth, kHeight, samples, 3, range, seed_);
+    const FilterOptions options{format, 2.4f, range, kernel};
+    const Texture array = msmcl::filter(context(), stack.layered, options);
+    ASSERT_EQ(array.layers, 3);
+    ASSERT_EQ(array.width, kWidth);
+    ASSERT_EQ(array.height, kHeight);
+    const std::size_t layer_words = static_cast<std::size_t>(kWidth) * kHeight * msmcl::texel_words(format);
+    ASSERT_EQ(array.words.size(), 3 * layer_words);
+    for (int i = 0; i < 3; ++i) {
+        const Texture single = msmcl::filter(context(), stack.maps[static_cast<std::size_t>(i)], options);
+        expect_layer_equal(array.words, layer_words, i, single.words, "filter");
+        EXPECT_EQ(array.layer(i).words, single.words);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryKernelAndFormat, ArrayFilter,
+    ::testing::Combine(::testing::Values(FilterKernel::fused_paper, FilterKernel::fused_cpu, FilterKernel::three_pass),
+                       ::testing::Values(Format::moments128, Format::msm64, Format::nlq64, Format::nlq32)),
+    [](const ::testing::TestParamInfo<ArrayFilter::ParamType>& info) {
+        return std::string(msmcl::filter_kernel_name(std::get<0>(info.param))) + "_" +
+               msmcl::format_name(std::get<1>(info.param));
+    });
+
+// ---- filter: translucent layers over an array, and the device path.
+
+TEST_F(ArrayTest, TranslucentArrayMatchesPerLayerCalls) {
+    const Stack stack = make_stack(kWidth, kHeight, 2, 3, DepthRange::zero_one, seed_);
+    const TranslucentStack translucent = make_translucent(stack, 2, DepthRange::zero_one, seed_ + 1u);
+    for (FilterKernel kernel : {FilterKernel::automatic, FilterKernel::three_pass}) {
+        const FilterOptions options{Format::nlq64, 2.4f, DepthRange::zero_one, kernel};
+        const Texture array = msmcl::filter(context(), stack.layered, translucent.layered, options);
+        const std::size_t layer_words = static_cast<std::size_t>(kWidth) * kHeight * 2;
+        for (int i = 0; i < 3; ++i) {
+            const Texture single = msmcl::filter(context(), stack.maps[static_cast<std::size_t>(i)],
+                                                 translucent.per_map[static_cast<std::size_t>(i)], options);
+            expect_layer_equal(array.words, layer_words, i, single.words,
+                               std::string("translucent filter ") + msmcl::filter_kernel_name(kernel));
+        }
+    }
+}
+
+// Device buffers in, one call for the whole array, the texture array out: the host path's bits.
+TEST_F(ArrayTest, DeviceArrayMatchesHostArray) {
+    const Stack stack = make_stack(kWidth, kHeight, 4, 4, DepthRange::zero_one, seed_);
+    const TranslucentStack translucent = make_translucent(stack, 1, DepthRange::zero_one, seed_ + 2u);
+    const cl_context cl = context().cl_context_handle();
+    cl_int status = CL_SUCCESS;
+    const std::size_t depth_bytes = stack.layered.depth.size() * sizeof(float);
+    cl_mem depth = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, depth_bytes,
+                                  const_cast<float*>(stack.layered.depth.data()), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    // The translucent layer in the device order: array layer after array layer (one each here).
+    cl_mem layer_depth = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, depth_bytes,
+                                        const_cast<float*>(translucent.layered[0].depth.data()), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    cl_mem layer_opacity = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, depth_bytes,
+                                          const_cast<float*>(translucent.layered[0].opacity.data()), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    for (Format format : {Format::msm64, Format::nlq32}) {
+        const FilterOptions options{format};
+        const std::size_t bytes = stack.layered.depth.size() / 4 * msmcl::texel_bytes(format);
+        cl_mem texture = clCreateBuffer(cl, CL_MEM_WRITE_ONLY, bytes, nullptr, &status);
+        ASSERT_EQ(status, CL_SUCCESS);
+        const DeviceDepth device{depth, kWidth, kHeight, 4, 4};
+        for (bool with_layers : {false, true}) {
+            const DeviceLayers layers = with_layers ? DeviceLayers{layer_depth, layer_opacity, 1} : DeviceLayers{};
+            msmcl::filter(context(), device, layers, texture, options, msmcl::Enqueue{nullptr, {}, nullptr, true});
+            std::vector<std::uint32_t> words(bytes / 4);
+            ASSERT_EQ(clEnqueueReadBuffer(context().cl_queue_handle(), texture, CL_TRUE, 0, bytes, words.data(), 0, nullptr,
+                                          nullptr),
+                      CL_SUCCESS);
+            const Texture host = with_layers
+                                     ? msmcl::filter(context(), stack.layered, translucent.layered, options)
+                                     : msmcl::filter(context(), stack.layered, options);
+            EXPECT_EQ(words, host.words) << msmcl::format_name(format) << (with_layers ? " with a translucent layer" : "");
+        }
+        clReleaseMemObject(texture);
+    }
+    clReleaseMemObject(layer_opacity);
+    clReleaseMemObject(layer_depth);
+    clReleaseMemObject(depth);
+}
+
+// One layer is a plain map: the same bits and a texture of one layer.
+TEST_F(ArrayTest, OneLayerIsThePlainCall) {
+    const Stack stack = make_stack(kWidth, kHeight, 4, 1, DepthRange::zero_one, seed_);
+    const Texture array = msmcl::filter(context(), stack.layered, FilterOptions{Format::nlq32});
+    const Texture single = msmcl::filter(context(), stack.maps[0], FilterOptions{Format::nlq32});
+    EXPECT_EQ(array.layers, 1);
+    EXPECT_EQ(array.words, single.words);
+    const SatTable table = msmcl::build_sat(context(), stack.layered, SatOptions{});
+    EXPECT_EQ(table.layers, 1);
+    EXPECT_EQ(table.words, msmcl::build_sat(context(), stack.maps[0], SatOptions{}).words);
+}
+
+// ---- build_sat: every distribution, per-layer calls bit for bit, host and device.
+
+class ArraySat : public ArrayTest, public ::testing::WithParamInterface<std::tuple<SatKernel, int>> {};
+
+TEST_P(ArraySat, HostAndDeviceArraysMatchPerLayerCalls) {
+    const auto [kernel, samples] = GetParam();
+    const Stack stack = make_stack(kWidth, kHeight, samples, 3, DepthRange::zero_one, seed_);
+    const SatOptions options{27 * 27, DepthRange::zero_one, kernel};
+    const SatTable array = msmcl::build_sat(context(), stack.layered, options);
+    ASSERT_EQ(array.layers, 3);
+    const std::size_t layer_words = 4 * static_cast<std::size_t>(kWidth) * kHeight;
+    ASSERT_EQ(array.words.size(), 3 * layer_words);
+    for (int i = 0; i < 3; ++i) {
+        const SatTable single = msmcl::build_sat(context(), stack.maps[static_cast<std::size_t>(i)], options);
+        expect_layer_equal(array.words, layer_words, i, single.words, "build_sat");
+        EXPECT_EQ(array.layer(i).words, single.words);
+    }
+
+    // Translucent layers over the array.
+    const TranslucentStack translucent = make_translucent(stack, 2, DepthRange::zero_one, seed_ + 3u);
+    const SatTable translucent_array = msmcl::build_sat(context(), stack.layered, translucent.layered, options);
+    for (int i = 0; i < 3; ++i) {
+        const SatTable single = msmcl::build_sat(context(), stack.maps[static_cast<std::size_t>(i)],
+                                                 translucent.per_map[static_cast<std::size_t>(i)], options);
+        expect_layer_equal(translucent_array.words, layer_words, i, single.words, "translucent build_sat");
+    }
+
+    // The device path: the host path's bits.
+    const cl_context cl = context().cl_context_handle();
+    cl_int status = CL_SUCCESS;
+    cl_mem depth = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, stack.layered.depth.size() * sizeof(float),
+                                  const_cast<float*>(stack.layered.depth.data()), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    cl_mem table = clCreateBuffer(cl, CL_MEM_READ_WRITE, 3 * layer_words * 4, nullptr, &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    msmcl::build_sat(context(), DeviceDepth{depth, kWidth, kHeight, samples, 3}, table, options,
+                     msmcl::Enqueue{nullptr, {}, nullptr, true});
+    std::vector<std::uint32_t> words(3 * layer_words);
+    ASSERT_EQ(clEnqueueReadBuffer(context().cl_queue_handle(), table, CL_TRUE, 0, words.size() * 4, words.data(), 0, nullptr,
+                                  nullptr),
+              CL_SUCCESS);
+    EXPECT_EQ(words, array.words);
+    clReleaseMemObject(table);
+    clReleaseMemObject(depth);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryDistribution, ArraySat,
+    ::testing::Combine(::testing::Values(SatKernel::tiled_gpu, SatKernel::tiled_cpu, SatKernel::row_per_thread),
+                       ::testing::Values(1, 4)),
+    [](const ::testing::TestParamInfo<ArraySat::ParamType>& info) {
+        return std::string(msmcl::sat_kernel_name(std::get<0>(info.param))) + "_S" +
+               std::to_string(std::get<1>(info.param));
+    });
+
+// ---- bad input: one input_error naming the problem, before any device work.
+
+TEST_F(ArrayTest, BadLayerCountsAndSizesAreInputErrors) {
+    const Stack stack = make_stack(9, 7, 1, 2, DepthRange::zero_one, seed_);
+    for (int layers : {0, -1, msmcl::max_array_layers + 1, INT_MAX}) {
+        DepthImage bad = stack.layered;
+        bad.layers = layers;
+        EXPECT_THROW(msmcl::filter(context(), bad, FilterOptions{}), msmcl::input_error) << layers;
+        EXPECT_THROW(msmcl::build_sat(context(), bad, SatOptions{}), msmcl::input_error) << layers;
+    }
+    // Values for two layers declared as three, and as one.
+    for (int layers : {1, 3}) {
+        DepthImage bad = stack.layered;
+        bad.layers = layers;
+        EXPECT_THROW(msmcl::filter(context(), bad, FilterOptions{}), msmcl::input_error) << layers;
+        EXPECT_THROW(msmcl::build_sat(context(), bad, SatOptions{}), msmcl::input_error) << layers;
+    }
+    // Absurd sizes.
+    DepthImage huge{70000, 2, 1, std::vector<float>(140000 * 2, 0.5f), 2};
+    EXPECT_THROW(msmcl::filter(context(), huge, FilterOptions{}), msmcl::input_error);
+    EXPECT_THROW(msmcl::build_sat(context(), huge, SatOptions{}), msmcl::input_error);
+
+    // A translucent layer holding one array layer's values instead of both.
+    std::vector<TranslucentLayer> short_layer{{stack.maps[0].depth, stack.maps[0].depth}};
+    EXPECT_THROW(msmcl::filter(context(), stack.layered, short_layer, FilterOptions{}), msmcl::input_error);
+
+    // Device buffers too small for the layers they declare.
+    const cl_context cl = context().cl_context_handle();
+    cl_int status = CL_SUCCESS;
+    const std::size_t one_map = 9 * 7 * sizeof(float);
+    cl_mem depth = clCreateBuffer(cl, CL_MEM_READ_WRITE, 2 * one_map, nullptr, &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    cl_mem output = clCreateBuffer(cl, CL_MEM_READ_WRITE, 2 * 9 * 7 * 16, nullptr, &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    EXPECT_THROW(msmcl::filter(context(), DeviceDepth{depth, 9, 7, 1, 3}, output, FilterOptions{}), msmcl::input_error);
+    EXPECT_THROW(msmcl::build_sat(context(), DeviceDepth{depth, 9, 7, 1, 3}, output, SatOptions{}), msmcl::input_error);
+    EXPECT_THROW(msmcl::filter(context(), DeviceDepth{depth, 9, 7, 1, 0}, output, FilterOptions{}), msmcl::input_error);
+    EXPECT_THROW(msmcl::build_sat(context(), DeviceDepth{depth, 9, 7, 1, -2}, output, SatOptions{}),
+                 msmcl::input_error);
+    // Two layers fit the depth buffer, but not a texture of 2 x 16 bytes a texel in half of it.
+    cl_mem small = clCreateBuffer(cl, CL_MEM_READ_WRITE, 9 * 7 * 16, nullptr, &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    EXPECT_THROW(msmcl::filter(context(), DeviceDepth{depth, 9, 7, 1, 2}, small, FilterOptions{Format::moments128}),
+                 msmcl::input_error);
+    EXPECT_THROW(msmcl::build_sat(context(), DeviceDepth{depth, 9, 7, 1, 2}, small, SatOptions{}), msmcl::input_error);
+    clReleaseMemObject(small);
+    clReleaseMemObject(output);
+    clReleaseMemObject(depth);
+}
+
+// Calls that take one map refuse an array; layer(i) takes one out.
+TEST_F(ArrayTest, SingleMapCallsRefuseArrays) {
+    const Stack stack = make_stack(9, 7, 1, 2, DepthRange::zero_one, seed_);
+    const Texture array = msmcl::filter(context(), stack.layered, FilterOptions{Format::msm64});
+    const msmcl::Receivers receivers{{1.0f}, {1.0f}, {0.5f}};
+    EXPECT_THROW(msmcl::shade(context(), array, receivers, msmcl::ShadeOptions{}), msmcl::input_error);
+    EXPECT_NO_THROW(msmcl::shade(context(), array.layer(1), receivers, msmcl::ShadeOptions{}));
+    EXPECT_THROW(array.layer(2), msmcl::input_error);
+    EXPECT_THROW(array.layer(-1), msmcl::input_error);
+    const SatTable table = msmcl::build_sat(context(), stack.layered, SatOptions{});
+    EXPECT_THROW(msmcl::sat_rectangle_sum(table, 0, 0, 1, 1), msmcl::input_error);
+    EXPECT_NO_THROW(msmcl::sat_rectangle_sum(table.layer(1), 0, 0, 1, 1));
+    EXPECT_THROW(table.layer(2), msmcl::input_error);
+}
+
+} // namespace
