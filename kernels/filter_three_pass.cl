@@ -38,11 +38,11 @@ __kernel void filter_resolve(__global const float* depth, int width, int height,
                              , __global const float* layer_depth, __global const float* layer_opacity
 #endif
 ) {
-    MSM_ARRAY_SLICE(depth, (size_t)width * height * MSM_SAMPLES);
-    MSM_ARRAY_SLICE(moments, (size_t)width * height * 4);
+    MSM_ARRAY_SLICE_ANY_GROUP(depth, (size_t)width * height * MSM_SAMPLES);
+    MSM_ARRAY_SLICE_ANY_GROUP(moments, (size_t)width * height * 4);
 #if MSM_LAYERS
-    MSM_ARRAY_SLICE(layer_depth, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
-    MSM_ARRAY_SLICE(layer_opacity, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+    MSM_ARRAY_SLICE_ANY_GROUP(layer_depth, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+    MSM_ARRAY_SLICE_ANY_GROUP(layer_opacity, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
 #endif
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
@@ -60,8 +60,8 @@ __kernel void filter_resolve(__global const float* depth, int width, int height,
 // (b) Horizontal 9-tap blur, clamp-to-edge.
 __kernel void filter_horizontal(__global const float* moments, int width, int height, __global float* blurred,
                                 float w0, float w1, float w2, float w3, float w4) {
-    MSM_ARRAY_SLICE(moments, (size_t)width * height * 4);
-    MSM_ARRAY_SLICE(blurred, (size_t)width * height * 4);
+    MSM_ARRAY_SLICE_ANY_GROUP(moments, (size_t)width * height * 4);
+    MSM_ARRAY_SLICE_ANY_GROUP(blurred, (size_t)width * height * 4);
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
     if (x >= width || y >= height) return;
@@ -84,8 +84,8 @@ __kernel void filter_horizontal(__global const float* moments, int width, int he
 // Algorithm 2 in the unshifted frame, c = 0, bias held apart as in the fused kernels).
 __kernel void filter_vertical_quantize(__global const float* moments, int width, int height, __global uint* texture,
                                        float w0, float w1, float w2, float w3, float w4) {
-    MSM_ARRAY_SLICE(moments, (size_t)width * height * 4);
-    MSM_ARRAY_SLICE(texture, (size_t)width * height * MSM_TEXEL_WORDS);
+    MSM_ARRAY_SLICE_ANY_GROUP(moments, (size_t)width * height * 4);
+    MSM_ARRAY_SLICE_ANY_GROUP(texture, (size_t)width * height * MSM_TEXEL_WORDS);
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
     if (x >= width || y >= height) return;

@@ -203,8 +203,8 @@ void sat_tile_scan(__global const SOURCE_TYPE* source, int width, int height, ui
 // Baseline, horizontal: one work-item per row, texels converted on the fly (Peters et al., i3D 2016).
 __kernel void sat_rows_per_thread(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                   __global uint* table) {
-    MSM_ARRAY_SLICE(source, MSM_SAT_SOURCE_ELEMENTS(width, height));
-    MSM_ARRAY_SLICE(table, 4 * (size_t)width * height);
+    MSM_ARRAY_SLICE_ANY_GROUP(source, MSM_SAT_SOURCE_ELEMENTS(width, height));
+    MSM_ARRAY_SLICE_ANY_GROUP(table, 4 * (size_t)width * height);
     const size_t y = get_global_id(0);
     if (y >= (size_t)height) return;
     uint s0 = 0u, s1 = 0u, s2 = 0u, s3 = 0u;
@@ -224,7 +224,7 @@ __kernel void sat_rows_per_thread(__global const SOURCE_TYPE* source, int width,
 
 // Baseline, vertical: one work-item per column, in place.
 __kernel void sat_columns_per_thread(__global uint* table, int width, int height) {
-    MSM_ARRAY_SLICE(table, 4 * (size_t)width * height);
+    MSM_ARRAY_SLICE_ANY_GROUP(table, 4 * (size_t)width * height);
     const size_t x = get_global_id(0);
     if (x >= (size_t)width) return;
     uint s0 = 0u, s1 = 0u, s2 = 0u, s3 = 0u;
