@@ -5,6 +5,9 @@
 // themselves are checked against the double-precision reference in filter_test, sat_test
 // and translucent_test, so bit equality here carries that check over to the arrays.
 #include "filter_fixtures.hpp"
+#include "io/gpu_image.hpp"
+#include "io/ktx2.hpp"
+#include "process.hpp"
 #include "seeded_test.hpp"
 
 #include <msmcl/context.hpp>
@@ -18,6 +21,9 @@
 
 #include <climits>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <random>
 #include <string>
 #include <tuple>
@@ -334,6 +340,119 @@ TEST_F(ArrayTest, SingleMapCallsRefuseArrays) {
     EXPECT_THROW(msmcl::sat_rectangle_sum(table, 0, 0, 1, 1), msmcl::input_error);
     EXPECT_NO_THROW(msmcl::sat_rectangle_sum(table.layer(1), 0, 0, 1, 1));
     EXPECT_THROW(table.layer(2), msmcl::input_error);
+}
+
+// ---- KTX2: a texture array is one file of layerCount layers; read back, the same words.
+
+TEST_F(ArrayTest, Ktx2WritesAndReadsLayers) {
+    const Stack stack = make_stack(kWidth, kHeight, 1, 3, DepthRange::zero_one, seed_);
+    for (Format format : {Format::msm64, Format::nlq32}) {
+        const Texture array = msmcl::filter(context(), stack.layered, FilterOptions{format});
+        const std::vector<std::uint8_t> bytes = msmcl::io::encode_ktx2(msmcl::io::gpu_image_of(array));
+        // layerCount at byte 32 of the header.
+        EXPECT_EQ(bytes[32] | bytes[33] << 8 | bytes[34] << 16 | bytes[35] << 24, 3);
+        const msmcl::io::GpuImage image = msmcl::io::decode_ktx2(bytes, "array.ktx2");
+        EXPECT_TRUE(image.array);
+        EXPECT_EQ(image.layers, 3);
+        const Texture back = msmcl::io::texture_of(image, format, "array.ktx2");
+        EXPECT_EQ(back.layers, 3);
+        EXPECT_EQ(back.words, array.words);
+    }
+    // A table array, and one layer stays a plain 2D texture (layerCount 0).
+    const SatTable tables = msmcl::build_sat(context(), stack.layered, SatOptions{});
+    const msmcl::io::GpuImage table_image = msmcl::io::decode_ktx2(
+        msmcl::io::encode_ktx2(msmcl::io::gpu_image_of(tables)), "tables.ktx2");
+    EXPECT_EQ(table_image.layers, 3);
+    const std::vector<std::uint8_t> single =
+        msmcl::io::encode_ktx2(msmcl::io::gpu_image_of(msmcl::filter(context(), stack.maps[0], FilterOptions{})));
+    EXPECT_EQ(single[32] | single[33] << 8 | single[34] << 16 | single[35] << 24, 0);
+}
+
+#ifdef MSMCL_CLI_PATH
+// `msmcl info` names the layer count of an array file; commands that read one map refuse it.
+TEST_F(ArrayTest, CliInfoShowsLayersAndShadeRefusesArrays) {
+    const Stack stack = make_stack(9, 7, 1, 4, DepthRange::zero_one, seed_);
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("msmcl_array_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string map = (dir / "array.ktx2").string();
+    msmcl::io::write_ktx2(map, msmcl::io::gpu_image_of(msmcl::filter(context(), stack.layered, FilterOptions{})));
+    const std::string out = (dir / "info.txt").string();
+    ASSERT_EQ(msmcl::testing::run_process({MSMCL_CLI_PATH, "info", map}, out, "/dev/null"), 0);
+    std::ifstream text(out);
+    std::stringstream content;
+    content << text.rdbuf();
+    EXPECT_NE(content.str().find("layers 4"), std::string::npos) << content.str();
+    const std::string err = (dir / "err.txt").string();
+    EXPECT_EQ(msmcl::testing::run_process({MSMCL_CLI_PATH, "shade", map, map, (dir / "y.exr").string()}, "/dev/null", err), 2);
+    std::ifstream err_text(err);
+    std::stringstream err_content;
+    err_content << err_text.rdbuf();
+    EXPECT_NE(err_content.str().find("texture array of 4 layers"), std::string::npos) << err_content.str();
+    std::filesystem::remove_all(dir);
+}
+#endif
+
+// ---- The C API binding: the C++ result, and its errors.
+
+TEST_F(ArrayTest, CApiArraysMatchTheCppCalls) {
+    msmcl_context* c_context = nullptr;
+    ASSERT_EQ(msmcl_context_create(nullptr, &c_context), MSMCL_SUCCESS);
+    const Stack stack = make_stack(kWidth, kHeight, 2, 3, DepthRange::zero_one, seed_);
+    msmcl_filter_options options;
+    msmcl_filter_options_init(&options);
+    options.format = MSMCL_FORMAT_NLQ64;
+    const Texture expected = msmcl::filter(context(), stack.layered, FilterOptions{Format::nlq64});
+    std::vector<std::uint32_t> texture(expected.words.size());
+    EXPECT_EQ(msmcl_filter_array(c_context, stack.layered.depth.data(), kWidth, kHeight, 2, 3, &options, texture.data(),
+                                 texture.size() * 4),
+              MSMCL_SUCCESS);
+    EXPECT_EQ(texture, expected.words);
+    const SatTable expected_table = msmcl::build_sat(context(), stack.layered, SatOptions{});
+    std::vector<std::uint32_t> table(expected_table.words.size());
+    EXPECT_EQ(msmcl_build_sat_array(c_context, stack.layered.depth.data(), kWidth, kHeight, 2, 3, nullptr, table.data(),
+                                    table.size()),
+              MSMCL_SUCCESS);
+    EXPECT_EQ(table, expected_table.words);
+
+    // Device buffers.
+    const cl_context cl = msmcl_context_cl_context(c_context);
+    cl_int status = CL_SUCCESS;
+    cl_mem depth = clCreateBuffer(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, stack.layered.depth.size() * 4,
+                                  const_cast<float*>(stack.layered.depth.data()), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    cl_mem output = clCreateBuffer(cl, CL_MEM_READ_WRITE, table.size() * 4, nullptr, &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    const msmcl_device_depth device{depth, kWidth, kHeight, 2, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    msmcl_enqueue blocking{};
+    blocking.blocking = 1;
+    ASSERT_EQ(msmcl_filter_array_device(c_context, &device, 3, output, &options, &blocking), MSMCL_SUCCESS);
+    std::vector<std::uint32_t> words(texture.size());
+    ASSERT_EQ(clEnqueueReadBuffer(msmcl_context_cl_queue(c_context), output, CL_TRUE, 0, words.size() * 4, words.data(),
+                                  0, nullptr, nullptr),
+              CL_SUCCESS);
+    EXPECT_EQ(words, expected.words);
+    ASSERT_EQ(msmcl_build_sat_array_device(c_context, &device, 3, output, nullptr, &blocking), MSMCL_SUCCESS);
+    words.resize(table.size());
+    ASSERT_EQ(clEnqueueReadBuffer(msmcl_context_cl_queue(c_context), output, CL_TRUE, 0, words.size() * 4, words.data(),
+                                  0, nullptr, nullptr),
+              CL_SUCCESS);
+    EXPECT_EQ(words, expected_table.words);
+
+    // Bad layer counts and short outputs.
+    EXPECT_EQ(msmcl_filter_array(c_context, stack.layered.depth.data(), kWidth, kHeight, 2, 0, &options, texture.data(),
+                                 texture.size() * 4),
+              MSMCL_ERROR_INPUT);
+    EXPECT_EQ(msmcl_build_sat_array(c_context, stack.layered.depth.data(), kWidth, kHeight, 2, -3, nullptr,
+                                    table.data(), table.size()),
+              MSMCL_ERROR_INPUT);
+    EXPECT_EQ(msmcl_filter_array(c_context, stack.layered.depth.data(), kWidth, kHeight, 2, 3, &options, texture.data(),
+                                 texture.size() * 4 - 1),
+              MSMCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(msmcl_filter_array_device(c_context, &device, 4, output, &options, &blocking), MSMCL_ERROR_INPUT);
+    clReleaseMemObject(output);
+    clReleaseMemObject(depth);
+    msmcl_context_destroy(c_context);
 }
 
 } // namespace

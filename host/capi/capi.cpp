@@ -210,17 +210,26 @@ std::size_t texel_count(int width, int height, const char* call) {
     return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
 }
 
-msmcl::DepthImage to_depth_image(const float* depth, int width, int height, int samples, const char* call) {
+static_assert(MSMCL_MAX_ARRAY_LAYERS == msmcl::max_array_layers, "msmcl.h and formats.hpp disagree");
+
+// `array_layers` maps of one size, layer after layer (texture arrays).
+msmcl::DepthImage to_depth_image(const float* depth, int width, int height, int samples, const char* call,
+                                 int array_layers = 1) {
     require(depth, call, "depth");
     const std::size_t texels = texel_count(width, height, call);
     if (!msmcl::is_supported_sample_count(samples))
         throw msmcl::input_error(std::string(call) + ": unsupported sample count " + std::to_string(samples) +
                                  " (supported: 1, 2, 4, 8, 16)");
+    // Refuse a bad layer count before copying (the C++ API would, after).
+    if (array_layers < 1 || array_layers > msmcl::max_array_layers)
+        throw msmcl::input_error(std::string(call) + ": " + std::to_string(array_layers) + " array layers (1 to " +
+                                 std::to_string(msmcl::max_array_layers) + ")");
     msmcl::DepthImage image;
     image.width = width;
     image.height = height;
     image.samples = samples;
-    image.depth.assign(depth, depth + texels * static_cast<std::size_t>(samples));
+    image.layers = array_layers;
+    image.depth.assign(depth, depth + texels * static_cast<std::size_t>(samples) * static_cast<std::size_t>(array_layers));
     return image;
 }
 
@@ -267,16 +276,17 @@ void require_buffers_for_layers(cl_mem depth, cl_mem output, const char* output_
 // msmcl_filter and msmcl_filter_layered.
 void filter_host(msmcl_context* context, const float* depth, int width, int height, int samples,
                  const msmcl_translucent_layer* layers, std::size_t layer_count, const msmcl_filter_options* options,
-                 void* texture, std::size_t texture_bytes, const char* call) {
+                 void* texture, std::size_t texture_bytes, const char* call, int array_layers = 1) {
     require(context, call, "context");
     require(texture, call, "texture");
     const msmcl::FilterOptions filter_options = to_filter_options(options, call);
-    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
+    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call, array_layers);
     const std::size_t needed = image.depth.size() / samples * msmcl::texel_bytes(filter_options.format);
     if (texture_bytes < needed)
         throw invalid_argument{std::string(call) + ": texture_bytes is " + std::to_string(texture_bytes) + ", a " +
                                std::to_string(width) + "x" + std::to_string(height) + " " +
-                               msmcl::format_name(filter_options.format) + " texture needs " + std::to_string(needed)};
+                               msmcl::format_name(filter_options.format) + " texture of " +
+                               std::to_string(array_layers) + " layer(s) needs " + std::to_string(needed)};
     const std::vector<msmcl::TranslucentLayer> translucent = to_layers(layers, layer_count, image.depth.size(), call);
     const msmcl::Texture result = msmcl::filter(context->context, image, translucent, filter_options);
     std::memcpy(texture, result.words.data(), needed);
@@ -356,16 +366,16 @@ void shade_host(msmcl_context* context, const msmcl_format& format, int width, i
 // msmcl_build_sat and msmcl_build_sat_layered.
 void build_sat_host(msmcl_context* context, const float* depth, int width, int height, int samples,
                     const msmcl_translucent_layer* layers, std::size_t layer_count, const msmcl_sat_options* options,
-                    uint32_t* table, std::size_t table_words, const char* call) {
+                    uint32_t* table, std::size_t table_words, const char* call, int array_layers = 1) {
     require(context, call, "context");
     require(table, call, "table");
     const msmcl::SatOptions sat_options = to_sat_options(options, call);
-    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
+    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call, array_layers);
     const std::size_t needed = 4 * (image.depth.size() / samples);
     if (table_words < needed)
         throw invalid_argument{std::string(call) + ": table_words is " + std::to_string(table_words) + ", a " +
-                               std::to_string(width) + "x" + std::to_string(height) + " table needs " +
-                               std::to_string(needed)};
+                               std::to_string(width) + "x" + std::to_string(height) + " table of " +
+                               std::to_string(array_layers) + " layer(s) needs " + std::to_string(needed)};
     const std::vector<msmcl::TranslucentLayer> translucent = to_layers(layers, layer_count, image.depth.size(), call);
     const msmcl::SatTable result = msmcl::build_sat(context->context, image, translucent, sat_options);
     std::memcpy(table, result.words.data(), needed * sizeof(std::uint32_t));
@@ -397,6 +407,22 @@ void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, c
         msmcl::build_sat(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
     else
         msmcl::build_sat_to_image(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
+}
+
+// msmcl_filter_array_device and msmcl_build_sat_array_device: buffers only (the C++ API
+// takes arrays in buffers).
+msmcl::DeviceDepth to_device_array(msmcl_context* context, const msmcl_device_depth* depth, int array_layers,
+                                   cl_mem output, const char* output_name, const char* call) {
+    require(context, call, "context");
+    require(depth, call, "depth");
+    if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
+    if (!output) throw invalid_argument{std::string(call) + ": " + output_name + " is NULL"};
+    if (!is_buffer(depth->memory) || !is_buffer(output))
+        throw msmcl::input_error(std::string(call) + ": texture arrays need the depth and the " + output_name +
+                                 " in buffers, not images");
+    msmcl::DeviceDepth device = to_device_depth(*depth);
+    device.layers = array_layers;
+    return device;
 }
 
 } // namespace
@@ -676,6 +702,42 @@ msmcl_status msmcl_build_sat_layered_device(msmcl_context* context, const msmcl_
                                             const msmcl_sat_options* options, const msmcl_enqueue* enqueue) {
     return guarded(
         [&] { build_sat_device(context, depth, layers, table, options, enqueue, "msmcl_build_sat_layered_device"); });
+}
+
+msmcl_status msmcl_filter_array(msmcl_context* context, const float* depth, int width, int height, int samples,
+                                int layers, const msmcl_filter_options* options, void* texture, size_t texture_bytes) {
+    return guarded([&] {
+        filter_host(context, depth, width, height, samples, nullptr, 0, options, texture, texture_bytes,
+                    "msmcl_filter_array", layers);
+    });
+}
+
+msmcl_status msmcl_filter_array_device(msmcl_context* context, const msmcl_device_depth* depth, int layers,
+                                       cl_mem texture, const msmcl_filter_options* options,
+                                       const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        const char* call = "msmcl_filter_array_device";
+        const msmcl::DeviceDepth array = to_device_array(context, depth, layers, texture, "texture", call);
+        msmcl::filter(context->context, array, texture, to_filter_options(options, call), to_enqueue(enqueue, call));
+    });
+}
+
+msmcl_status msmcl_build_sat_array(msmcl_context* context, const float* depth, int width, int height, int samples,
+                                   int layers, const msmcl_sat_options* options, uint32_t* table, size_t table_words) {
+    return guarded([&] {
+        build_sat_host(context, depth, width, height, samples, nullptr, 0, options, table, table_words,
+                       "msmcl_build_sat_array", layers);
+    });
+}
+
+msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_device_depth* depth, int layers,
+                                          cl_mem table, const msmcl_sat_options* options,
+                                          const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        const char* call = "msmcl_build_sat_array_device";
+        const msmcl::DeviceDepth array = to_device_array(context, depth, layers, table, "table", call);
+        msmcl::build_sat(context->context, array, table, to_sat_options(options, call), to_enqueue(enqueue, call));
+    });
 }
 
 } // extern "C"
