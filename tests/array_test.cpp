@@ -13,6 +13,7 @@
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
+#include <msmcl/interop.hpp>
 #include <msmcl/msmcl.h>
 #include <msmcl/sat.hpp>
 #include <msmcl/shade.hpp>
@@ -342,6 +343,98 @@ TEST_F(ArrayTest, SingleMapCallsRefuseArrays) {
     EXPECT_THROW(table.layer(2), msmcl::input_error);
 }
 
+// ---- Image arrays in and out (the interop path): the buffer path's bits.
+
+// A 2D image array of `layers` layers holding `values` (rows packed, layer after layer), or
+// null when the device cannot make one of `format`.
+cl_mem image_array(Context& context, cl_image_format format, std::size_t width, std::size_t height, std::size_t layers,
+                   const void* values) {
+    cl_image_desc description{};
+    description.image_type = CL_MEM_OBJECT_IMAGE2D_ARRAY;
+    description.image_width = width;
+    description.image_height = height;
+    description.image_array_size = layers;
+    cl_int status = CL_SUCCESS;
+    cl_mem image = clCreateImage(context.cl_context_handle(),
+                                 CL_MEM_READ_WRITE | (values ? CL_MEM_COPY_HOST_PTR : cl_mem_flags{0}), &format,
+                                 &description, const_cast<void*>(values), &status);
+    return status == CL_SUCCESS ? image : nullptr;
+}
+
+std::vector<std::uint32_t> read_image_array(Context& context, cl_mem image, std::size_t width, std::size_t height,
+                                            std::size_t layers, std::size_t texel_bytes) {
+    std::vector<std::uint32_t> words(width * height * layers * texel_bytes / 4);
+    const std::size_t origin[3] = {0, 0, 0};
+    const std::size_t region[3] = {width, height, layers};
+    EXPECT_EQ(clEnqueueReadImage(context.cl_queue_handle(), image, CL_TRUE, origin, region, 0, 0, words.data(), 0,
+                                 nullptr, nullptr),
+              CL_SUCCESS);
+    return words;
+}
+
+std::vector<std::uint32_t> read_buffer(Context& context, cl_mem buffer, std::size_t words) {
+    std::vector<std::uint32_t> result(words);
+    EXPECT_EQ(clEnqueueReadBuffer(context.cl_queue_handle(), buffer, CL_TRUE, 0, words * 4, result.data(), 0, nullptr,
+                                  nullptr),
+              CL_SUCCESS);
+    return result;
+}
+
+TEST_F(ArrayTest, ImageArraysMatchTheHostArray) {
+    constexpr int kMaps = 3, kSamples = 2;
+    const Stack stack = make_stack(kWidth, kHeight, kSamples, kMaps, DepthRange::zero_one, seed_);
+    const std::size_t texels = static_cast<std::size_t>(kWidth) * kHeight;
+    // Side by side: map a in array layer a, its rows of width * S floats (the buffer layout).
+    cl_mem side_by_side = image_array(context(), cl_image_format{CL_R, CL_FLOAT}, kWidth * kSamples, kHeight, kMaps,
+                                      stack.layered.depth.data());
+    if (!side_by_side) GTEST_SKIP() << "the device makes no CL_R/CL_FLOAT 2D image arrays";
+    // Samples as layers: sample s of map a in array layer a * S + s.
+    std::vector<float> planes;
+    for (const DepthImage& map : stack.maps)
+        for (int s = 0; s < kSamples; ++s)
+            for (std::size_t t = 0; t < texels; ++t) planes.push_back(map.depth[t * kSamples + s]);
+    cl_mem sample_layers =
+        image_array(context(), cl_image_format{CL_R, CL_FLOAT}, kWidth, kHeight, kMaps * kSamples, planes.data());
+    ASSERT_NE(sample_layers, nullptr);
+
+    const FilterOptions options{Format::nlq32};
+    const Texture expected = msmcl::filter(context(), stack.layered, options);
+    const SatTable expected_table = msmcl::build_sat(context(), stack.layered, SatOptions{});
+    cl_int status = CL_SUCCESS;
+    cl_mem table = clCreateBuffer(context().cl_context_handle(), CL_MEM_READ_WRITE, expected_table.words.size() * 4,
+                                  nullptr, &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    cl_mem texture_image = image_array(context(), msmcl::texture_image_format(Format::nlq32), kWidth, kHeight, kMaps,
+                                       nullptr);
+    cl_mem table_image = image_array(context(), msmcl::sat_image_format(), kWidth, kHeight, kMaps, nullptr);
+    ASSERT_NE(texture_image, nullptr);
+    ASSERT_NE(table_image, nullptr);
+    const msmcl::Enqueue blocking{nullptr, {}, nullptr, true};
+    for (const auto& [image, layout] : {std::pair{side_by_side, msmcl::SampleLayout::side_by_side},
+                                        std::pair{sample_layers, msmcl::SampleLayout::layers}}) {
+        const msmcl::DeviceDepthImage depth{image, kWidth, kHeight, kSamples, layout, kMaps};
+        const std::string what = layout == msmcl::SampleLayout::layers ? "samples as layers" : "side by side";
+        msmcl::filter(context(), depth, table, options, blocking);
+        EXPECT_EQ(read_buffer(context(), table, expected.words.size()), expected.words) << what;
+        msmcl::filter_to_image(context(), depth, texture_image, options, blocking);
+        EXPECT_EQ(read_image_array(context(), texture_image, kWidth, kHeight, kMaps, 4), expected.words) << what;
+        msmcl::build_sat(context(), depth, table, SatOptions{}, blocking);
+        EXPECT_EQ(read_buffer(context(), table, expected_table.words.size()), expected_table.words) << what;
+        msmcl::build_sat_to_image(context(), depth, table_image, SatOptions{}, blocking);
+        EXPECT_EQ(read_image_array(context(), table_image, kWidth, kHeight, kMaps, 16), expected_table.words) << what;
+    }
+    // Too few layers in the depth image or the output image.
+    EXPECT_THROW(msmcl::filter(context(), msmcl::DeviceDepthImage{side_by_side, kWidth, kHeight, kSamples,
+                                                                  msmcl::SampleLayout::side_by_side, kMaps + 1},
+                               table, options),
+                 msmcl::input_error);
+    EXPECT_THROW(msmcl::filter_to_image(context(), msmcl::DeviceDepthImage{sample_layers, kWidth, kHeight, kSamples,
+                                                                           msmcl::SampleLayout::layers, kMaps + 1},
+                                        texture_image, options),
+                 msmcl::input_error);
+    for (cl_mem object : {side_by_side, sample_layers, table, texture_image, table_image}) clReleaseMemObject(object);
+}
+
 // ---- KTX2: a texture array is one file of layerCount layers; read back, the same words.
 
 TEST_F(ArrayTest, Ktx2WritesAndReadsLayers) {
@@ -450,6 +543,26 @@ TEST_F(ArrayTest, CApiArraysMatchTheCppCalls) {
                                  texture.size() * 4 - 1),
               MSMCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(msmcl_filter_array_device(c_context, &device, 4, output, &options, &blocking), MSMCL_ERROR_INPUT);
+
+    // A 2D image array in (the maps side by side), the buffer's bits out.
+    cl_image_desc description{};
+    description.image_type = CL_MEM_OBJECT_IMAGE2D_ARRAY;
+    description.image_width = 2 * kWidth;
+    description.image_height = kHeight;
+    description.image_array_size = 3;
+    const cl_image_format depth_format{CL_R, CL_FLOAT};
+    cl_mem image = clCreateImage(cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, &depth_format, &description,
+                                 const_cast<float*>(stack.layered.depth.data()), &status);
+    if (status == CL_SUCCESS) {
+        const msmcl_device_depth in_image{image, kWidth, kHeight, 2, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+        ASSERT_EQ(msmcl_filter_array_device(c_context, &in_image, 3, output, &options, &blocking), MSMCL_SUCCESS);
+        words.resize(texture.size());
+        ASSERT_EQ(clEnqueueReadBuffer(msmcl_context_cl_queue(c_context), output, CL_TRUE, 0, words.size() * 4,
+                                      words.data(), 0, nullptr, nullptr),
+                  CL_SUCCESS);
+        EXPECT_EQ(words, expected.words);
+        clReleaseMemObject(image);
+    }
     clReleaseMemObject(output);
     clReleaseMemObject(depth);
     msmcl_context_destroy(c_context);

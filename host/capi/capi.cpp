@@ -182,16 +182,18 @@ cl_mem_object_type memory_type(cl_mem memory) {
 
 bool is_buffer(cl_mem memory) { return memory_type(memory) == CL_MEM_OBJECT_BUFFER; }
 
-msmcl::DeviceDepth to_device_depth(const msmcl_device_depth& depth) {
-    return msmcl::DeviceDepth{depth.memory, depth.width, depth.height, depth.samples};
+// `array_layers` maps of one size (texture arrays), 1 for one map.
+msmcl::DeviceDepth to_device_depth(const msmcl_device_depth& depth, int array_layers) {
+    return msmcl::DeviceDepth{depth.memory, depth.width, depth.height, depth.samples, array_layers};
 }
 
-msmcl::DeviceDepthImage to_device_depth_image(const msmcl_device_depth& depth, const char* call) {
+msmcl::DeviceDepthImage to_device_depth_image(const msmcl_device_depth& depth, int array_layers, const char* call) {
     msmcl::DeviceDepthImage image;
     image.image = depth.memory;
     image.width = depth.width;
     image.height = depth.height;
     image.samples = depth.samples;
+    image.layers = array_layers;
     switch (enum_value(depth.layout)) {
     case MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE: image.layout = msmcl::SampleLayout::side_by_side; break;
     case MSMCL_SAMPLE_LAYOUT_LAYERS: image.layout = msmcl::SampleLayout::layers; break;
@@ -295,7 +297,7 @@ void filter_host(msmcl_context* context, const float* depth, int width, int heig
 // msmcl_filter_device and msmcl_filter_layered_device: buffers or images, as the cl_mem types say.
 void filter_device(msmcl_context* context, const msmcl_device_depth* depth, const msmcl_device_layers* layers,
                    cl_mem texture, const msmcl_filter_options* options, const msmcl_enqueue* enqueue,
-                   const char* call) {
+                   const char* call, int array_layers = 1) {
     require(context, call, "context");
     require(depth, call, "depth");
     if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
@@ -303,23 +305,24 @@ void filter_device(msmcl_context* context, const msmcl_device_depth* depth, cons
     const msmcl::FilterOptions filter_options = to_filter_options(options, call);
     const msmcl::DeviceLayers device_layers = to_device_layers(layers, call);
     const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+    const msmcl::DeviceDepth in_buffer = to_device_depth(*depth, array_layers);
+    const auto in_image = [&] { return to_device_depth_image(*depth, array_layers, call); };
     // With layers (or a bad count, which the C++ API reports): buffers only.
     if (device_layers.count != 0) {
         require_buffers_for_layers(depth->memory, texture, "texture", call);
-        msmcl::filter(context->context, to_device_depth(*depth), device_layers, texture, filter_options, plumbing);
+        msmcl::filter(context->context, in_buffer, device_layers, texture, filter_options, plumbing);
         return;
     }
     const bool depth_in_buffer = is_buffer(depth->memory);
     const bool texture_in_buffer = is_buffer(texture);
     if (depth_in_buffer && texture_in_buffer)
-        msmcl::filter(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
+        msmcl::filter(context->context, in_buffer, texture, filter_options, plumbing);
     else if (depth_in_buffer)
-        msmcl::filter_to_image(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
+        msmcl::filter_to_image(context->context, in_buffer, texture, filter_options, plumbing);
     else if (texture_in_buffer)
-        msmcl::filter(context->context, to_device_depth_image(*depth, call), texture, filter_options, plumbing);
+        msmcl::filter(context->context, in_image(), texture, filter_options, plumbing);
     else
-        msmcl::filter_to_image(context->context, to_device_depth_image(*depth, call), texture, filter_options,
-                               plumbing);
+        msmcl::filter_to_image(context->context, in_image(), texture, filter_options, plumbing);
 }
 
 // msmcl_shade and msmcl_shade_with_pixels.
@@ -383,7 +386,8 @@ void build_sat_host(msmcl_context* context, const float* depth, int width, int h
 
 // msmcl_build_sat_device and msmcl_build_sat_layered_device.
 void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, const msmcl_device_layers* layers,
-                      cl_mem table, const msmcl_sat_options* options, const msmcl_enqueue* enqueue, const char* call) {
+                      cl_mem table, const msmcl_sat_options* options, const msmcl_enqueue* enqueue, const char* call,
+                      int array_layers = 1) {
     require(context, call, "context");
     require(depth, call, "depth");
     if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
@@ -391,38 +395,24 @@ void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, c
     const msmcl::SatOptions sat_options = to_sat_options(options, call);
     const msmcl::DeviceLayers device_layers = to_device_layers(layers, call);
     const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+    const msmcl::DeviceDepth in_buffer = to_device_depth(*depth, array_layers);
+    const auto in_image = [&] { return to_device_depth_image(*depth, array_layers, call); };
     // With layers (or a bad count, which the C++ API reports): buffers only.
     if (device_layers.count != 0) {
         require_buffers_for_layers(depth->memory, table, "table", call);
-        msmcl::build_sat(context->context, to_device_depth(*depth), device_layers, table, sat_options, plumbing);
+        msmcl::build_sat(context->context, in_buffer, device_layers, table, sat_options, plumbing);
         return;
     }
     const bool depth_in_buffer = is_buffer(depth->memory);
     const bool table_in_buffer = is_buffer(table);
     if (depth_in_buffer && table_in_buffer)
-        msmcl::build_sat(context->context, to_device_depth(*depth), table, sat_options, plumbing);
+        msmcl::build_sat(context->context, in_buffer, table, sat_options, plumbing);
     else if (depth_in_buffer)
-        msmcl::build_sat_to_image(context->context, to_device_depth(*depth), table, sat_options, plumbing);
+        msmcl::build_sat_to_image(context->context, in_buffer, table, sat_options, plumbing);
     else if (table_in_buffer)
-        msmcl::build_sat(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
+        msmcl::build_sat(context->context, in_image(), table, sat_options, plumbing);
     else
-        msmcl::build_sat_to_image(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
-}
-
-// msmcl_filter_array_device and msmcl_build_sat_array_device: buffers only (the C++ API
-// takes arrays in buffers).
-msmcl::DeviceDepth to_device_array(msmcl_context* context, const msmcl_device_depth* depth, int array_layers,
-                                   cl_mem output, const char* output_name, const char* call) {
-    require(context, call, "context");
-    require(depth, call, "depth");
-    if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
-    if (!output) throw invalid_argument{std::string(call) + ": " + output_name + " is NULL"};
-    if (!is_buffer(depth->memory) || !is_buffer(output))
-        throw msmcl::input_error(std::string(call) + ": texture arrays need the depth and the " + output_name +
-                                 " in buffers, not images");
-    msmcl::DeviceDepth device = to_device_depth(*depth);
-    device.layers = array_layers;
-    return device;
+        msmcl::build_sat_to_image(context->context, in_image(), table, sat_options, plumbing);
 }
 
 } // namespace
@@ -716,9 +706,7 @@ msmcl_status msmcl_filter_array_device(msmcl_context* context, const msmcl_devic
                                        cl_mem texture, const msmcl_filter_options* options,
                                        const msmcl_enqueue* enqueue) {
     return guarded([&] {
-        const char* call = "msmcl_filter_array_device";
-        const msmcl::DeviceDepth array = to_device_array(context, depth, layers, texture, "texture", call);
-        msmcl::filter(context->context, array, texture, to_filter_options(options, call), to_enqueue(enqueue, call));
+        filter_device(context, depth, nullptr, texture, options, enqueue, "msmcl_filter_array_device", layers);
     });
 }
 
@@ -734,9 +722,7 @@ msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_de
                                           cl_mem table, const msmcl_sat_options* options,
                                           const msmcl_enqueue* enqueue) {
     return guarded([&] {
-        const char* call = "msmcl_build_sat_array_device";
-        const msmcl::DeviceDepth array = to_device_array(context, depth, layers, table, "table", call);
-        msmcl::build_sat(context->context, array, table, to_sat_options(options, call), to_enqueue(enqueue, call));
+        build_sat_device(context, depth, nullptr, table, options, enqueue, "msmcl_build_sat_array_device", layers);
     });
 }
 

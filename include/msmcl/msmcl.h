@@ -355,8 +355,10 @@ MSMCL_C_API msmcl_status msmcl_build_sat_layered_device(msmcl_context* context, 
 MSMCL_C_API msmcl_status msmcl_filter_array(msmcl_context* context, const float* depth, int width, int height,
                                             int samples, int layers, const msmcl_filter_options* options,
                                             void* texture, size_t texture_bytes);
-/* Device version, one launch for all layers: `depth->memory` and `texture` must be buffers
- * (an image is MSMCL_ERROR_INPUT). `options` and `enqueue` may be NULL. */
+/* Device version, one launch for all layers. `depth->memory` is a buffer (layer after
+ * layer) or a 2D image array: map a in array layer a (side by side), or sample s of map a
+ * in array layer a * samples + s (MSMCL_SAMPLE_LAYOUT_LAYERS); `texture` a buffer or a 2D
+ * image array of at least `layers` layers. `options` and `enqueue` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_filter_array_device(msmcl_context* context, const msmcl_device_depth* depth,
                                                    int layers, cl_mem texture, const msmcl_filter_options* options,
                                                    const msmcl_enqueue* enqueue);
@@ -364,7 +366,7 @@ MSMCL_C_API msmcl_status msmcl_filter_array_device(msmcl_context* context, const
 MSMCL_C_API msmcl_status msmcl_build_sat_array(msmcl_context* context, const float* depth, int width, int height,
                                                int samples, int layers, const msmcl_sat_options* options,
                                                uint32_t* table, size_t table_words);
-/* Device version: buffers only, as msmcl_filter_array_device. */
+/* Device version: buffers or image arrays, as msmcl_filter_array_device. */
 MSMCL_C_API msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_device_depth* depth,
                                                       int layers, cl_mem table, const msmcl_sat_options* options,
                                                       const msmcl_enqueue* enqueue);
