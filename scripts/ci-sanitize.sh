@@ -5,7 +5,7 @@
 #     The subset: every test of files, the CLI, the C API, the runtime, faults and threads,
 #     and the host math. Left out (they spend their time in OpenCL kernels, which PoCL
 #     compiles at run time without instrumentation, and which the Oclgrind label checks):
-#     filter_test, filter_cpu_test, shade_test, sat_test, soft_test, scatter_test,
+#     filter_test, shade_test, sat_test, soft_test, scatter_test,
 #     translucent_test, dither_test, bluenoise_test, fused_layout_test, shaders_test,
 #     install_test.
 #  2. ThreadSanitizer (MSMCL_SANITIZE=thread): the shared-Context concurrency test,
@@ -17,7 +17,7 @@ bash scripts/install-deps.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 build_dir=${MSMCL_SANITIZE_BUILD_DIR:-build-sanitize}
 tsan_dir=${MSMCL_TSAN_BUILD_DIR:-build-tsan}
-tests=(capi_test cli_test cli_conventions_test concurrency_test containers_test faults_test interop_test
+tests=(capi_test capi_c_test cli_test cli_conventions_test concurrency_test containers_test faults_test interop_test
        io_test runtime_test scatter_cli_test math_df_test math_formats_test math_hamburger_test
        math_nlq_test math_shade_receiver_test)
 tests_present=()

@@ -1,6 +1,6 @@
-// Helpers shared by the filter tests (tests/filter_test.cpp, tests/filter_cpu_test.cpp):
-// synthetic depth maps, the double-precision reference in each kernel's frame, code
-// sensitivity, nlq checks, the shared Context fixture.
+// Helpers of the filter suite (tests/filter_test.cpp): synthetic depth maps, the
+// double-precision reference in each kernel's frame, code sensitivity, nlq checks, the
+// shared Context fixture.
 #pragma once
 
 #include "reference/filter_reference.hpp"
@@ -123,6 +123,12 @@ inline std::array<int, 2> cpu_tile() {
     return {128, 64};
 }
 
+// Output block of a fused kernel: the paper's 32x24 (kernels/filter_fused_gpu.cl) or the CPU
+// tile; three_pass has none (its blocks are single texels, it reads the paper's size here).
+inline std::array<int, 2> output_block(FilterKernel kernel) {
+    return kernel == FilterKernel::fused_cpu ? cpu_tile() : std::array<int, 2>{32, 24};
+}
+
 // Shift c of a kernel per texel, in float32 as the kernel computes it from the internal
 // depths z = 2d - 1 (or d) of sample 0: (min z + max z) * 0.5f over the input texels of the
 // texel's output block (fused_paper: 32x24, fused_cpu: its tile) and their guard band of 4
@@ -131,7 +137,7 @@ inline std::array<int, 2> cpu_tile() {
 class KernelShift {
 public:
     KernelShift(const DepthImage& depth, DepthRange range, FilterKernel kernel)
-        : kernel_(kernel), block_(kernel == FilterKernel::fused_cpu ? cpu_tile() : std::array<int, 2>{32, 24}) {
+        : kernel_(kernel), block_(output_block(kernel)) {
         if (kernel == FilterKernel::three_pass) return;
         columns_ = (depth.width + block_[0] - 1) / block_[0];
         const int rows = (depth.height + block_[1] - 1) / block_[1];

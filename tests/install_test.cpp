@@ -74,7 +74,8 @@ Outcome InstallTest::install_;
 TEST_F(InstallTest, PutsLibrariesHeadersPackageAndToolsInPlace) {
     const fs::path include = prefix_ / MSMCL_INSTALL_INCLUDEDIR / "msmcl";
     for (const char* header : {"msmcl.hpp", "msmcl.h", "version.hpp", "context.hpp", "filter.hpp", "interop.hpp",
-                               "formats.hpp", "errors.hpp", "enqueue.hpp", "shade.hpp", "device_math.hpp", "types.hpp"})
+                               "formats.hpp", "errors.hpp", "enqueue.hpp", "shade.hpp", "device_math.hpp", "types.hpp",
+                               "vector3.hpp"})
         EXPECT_TRUE(fs::is_regular_file(include / header)) << header;
     const std::string so = "libmsmcl.so";
     EXPECT_TRUE(fs::is_regular_file(libdir() / (so + "." + MSMCL_VERSION)));

@@ -1,7 +1,11 @@
-// Small double-precision geometry for the sample-data tools: vectors, an orthographic
-// directional light that maps world points to shadow-map texels and depth in [0,1],
-// and cameras that produce view rays.
+// Small double-precision geometry for the sample-data tools: vector arithmetic on the one
+// 3-vector type (msmcl::Vector3, include/msmcl/vector3.hpp), an orthographic directional
+// light that maps world points to shadow-map texels and depth in [0,1], and cameras that
+// produce view rays. Code outside namespace msmcl::data brings the operators in with
+// `using namespace msmcl::data::vector_operators;`.
 #pragma once
+
+#include <msmcl/vector3.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -10,15 +14,22 @@
 
 namespace msmcl::data {
 
-struct Vec3 {
-    double x = 0, y = 0, z = 0;
-};
-inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
-inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline Vec3 normalize(Vec3 a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
+using Vec3 = msmcl::Vector3;
+
+// Operators of a std::array are not found by argument-dependent lookup (its namespace is
+// std): code outside msmcl::data says `using namespace msmcl::data::vector_operators;`.
+namespace vector_operators {
+inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline Vec3 operator*(double s, const Vec3& a) { return {s * a[0], s * a[1], s * a[2]}; }
+} // namespace vector_operators
+using namespace vector_operators;
+
+inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline Vec3 normalize(const Vec3& a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
 
 /// An orthographic directional light looking along `forward`, with a width x height
 /// texel shadow map. Texel coordinates: u to the right, v down (row 0 at the top),
@@ -77,7 +88,7 @@ inline OrthographicLight fit_light(Vec3 direction, const std::vector<Vec3>& poin
     for (double u : {0.0, 1.0 * width})
         for (double v : {0.0, 1.0 * height}) {
             const Vec3 start = light.near_point(u, v);
-            const double t = -start.y / light.forward.y; // forward.y < 0: the light shines down
+            const double t = -start[1] / light.forward[1]; // forward.y < 0: the light shines down
             light.far = std::max(light.far, dot(start + t * light.forward, light.forward));
         }
     const double slack = 0.01 * (light.far - light.near);

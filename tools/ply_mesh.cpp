@@ -162,7 +162,7 @@ TriangleMesh read_ply(const std::string& path) {
         const bool is_vertex = element.name == "vertex";
         const bool is_face = element.name == "face";
         for (std::size_t item = 0; item < element.count; ++item) {
-            Vec3 position;
+            Vec3 position{};
             for (const Property& property : element.properties) {
                 if (property.is_list) {
                     const double count = values.next(property.count_type);
@@ -174,9 +174,9 @@ TriangleMesh read_ply(const std::string& path) {
                             mesh.triangles.push_back({indices[0], indices[k - 1], indices[k]});
                 } else {
                     const double value = values.next(property.type);
-                    if (is_vertex && property.name == "x") position.x = value;
-                    if (is_vertex && property.name == "y") position.y = value;
-                    if (is_vertex && property.name == "z") position.z = value;
+                    if (is_vertex && property.name == "x") position[0] = value;
+                    if (is_vertex && property.name == "y") position[1] = value;
+                    if (is_vertex && property.name == "z") position[2] = value;
                 }
             }
             if (is_vertex) mesh.vertices.push_back(position);

@@ -21,6 +21,7 @@ namespace {
 using msmcl::data::OrthographicLight;
 using msmcl::data::ScreenPoint;
 using msmcl::data::Vec3;
+using namespace msmcl::data::vector_operators;
 
 /// The mesh triangles followed by two ground triangles far larger than any map.
 struct Scene {
@@ -34,16 +35,16 @@ struct Scene {
 Scene build_scene(const msmcl::data::TriangleMesh& mesh) {
     Vec3 low{1e300, 1e300, 1e300}, high{-1e300, -1e300, -1e300};
     for (const Vec3& v : mesh.vertices) {
-        low = {std::min(low.x, v.x), std::min(low.y, v.y), std::min(low.z, v.z)};
-        high = {std::max(high.x, v.x), std::max(high.y, v.y), std::max(high.z, v.z)};
+        low = {std::min(low[0], v[0]), std::min(low[1], v[1]), std::min(low[2], v[2])};
+        high = {std::max(high[0], v[0]), std::max(high[1], v[1]), std::max(high[2], v[2])};
     }
-    const Vec3 offset{-0.5 * (low.x + high.x), -low.y, -0.5 * (low.z + high.z)};
+    const Vec3 offset{-0.5 * (low[0] + high[0]), -low[1], -0.5 * (low[2] + high[2])};
     Scene scene;
     for (const Vec3& v : mesh.vertices) scene.vertices.push_back(v + offset);
     scene.mesh_vertices = scene.vertices;
     scene.triangles = mesh.triangles;
     scene.mesh_triangles = scene.triangles.size();
-    const double extent = 100.0 * std::max({high.x - low.x, high.y - low.y, high.z - low.z});
+    const double extent = 100.0 * std::max({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
     const int base = static_cast<int>(scene.vertices.size());
     for (double x : {-extent, extent})
         for (double z : {-extent, extent}) scene.vertices.push_back({x, 0.0, z});
@@ -57,7 +58,7 @@ ScreenPoint to_screen(const OrthographicLight& view, Vec3 p) { return {view.texe
 
 double albedo(bool is_mesh, Vec3 p) {
     if (is_mesh) return 0.75;
-    const bool odd = (static_cast<long>(std::floor(p.x * 2)) + static_cast<long>(std::floor(p.z * 2))) & 1;
+    const bool odd = (static_cast<long>(std::floor(p[0] * 2)) + static_cast<long>(std::floor(p[2] * 2))) & 1;
     return odd ? 0.50 : 0.58;
 }
 
@@ -76,7 +77,7 @@ int run(const Options& options) {
     // Shadow footprint on the ground: where light rays through the mesh land.
     const Vec3 light_direction = msmcl::data::normalize({0.45, -0.7, -0.35});
     std::vector<Vec3> footprint = scene.mesh_vertices;
-    for (const Vec3& v : scene.mesh_vertices) footprint.push_back(v + (-v.y / light_direction.y) * light_direction);
+    for (const Vec3& v : scene.mesh_vertices) footprint.push_back(v + (-v[1] / light_direction[1]) * light_direction);
 
     // The view (orthographic, from the front right, above) frames mesh and shadow; the
     // light's map covers the mesh and all the ground the view sees.
@@ -86,7 +87,7 @@ int run(const Options& options) {
     for (double u : {0.0, 1.0 * options.view_width})
         for (double v : {0.0, 1.0 * options.view_height}) {
             const Vec3 start = view.near_point(u, v);
-            covered.push_back(start + (-start.y / view.forward.y) * view.forward);
+            covered.push_back(start + (-start[1] / view.forward[1]) * view.forward);
         }
     const OrthographicLight light = msmcl::data::fit_light(light_direction, covered, options.width, height, 0.01);
 
@@ -159,13 +160,13 @@ int run(const Options& options) {
 
         // Flat normal facing the viewer; Lambert with the light.
         const auto& triangle = scene.triangles[triangle_of[i]];
-        Vec3 normal = msmcl::data::normalize(cross(scene.vertices[triangle[1]] - scene.vertices[triangle[0]],
+        Vec3 normal = msmcl::data::normalize(msmcl::data::cross(scene.vertices[triangle[1]] - scene.vertices[triangle[0]],
                                                    scene.vertices[triangle[2]] - scene.vertices[triangle[0]]));
-        if (dot(normal, view.forward) > 0) normal = -1.0 * normal;
+        if (msmcl::data::dot(normal, view.forward) > 0) normal = -1.0 * normal;
         const bool is_mesh = triangle_of[i] < scene.mesh_triangles;
         const double a = albedo(is_mesh, p);
         ambient[i] = static_cast<float>(a * ambient_share);
-        direct[i] = static_cast<float>(a * (1 - ambient_share) * std::max(0.0, -dot(normal, light.forward)));
+        direct[i] = static_cast<float>(a * (1 - ambient_share) * std::max(0.0, -msmcl::data::dot(normal, light.forward)));
 
         // Unfiltered reference: share of the nearest texel's samples that do not occlude.
         const int tx = std::clamp(static_cast<int>(std::floor(u)), 0, options.width - 1);

@@ -21,7 +21,7 @@
 
 namespace msmcl::scatter_data {
 
-using V3 = std::array<double, 3>;
+using V3 = msmcl::Vector3;
 
 inline V3 add(const V3& a, const V3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 inline V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }

@@ -27,19 +27,20 @@
 namespace {
 
 using msmcl::data::Vec3;
+using namespace msmcl::data::vector_operators;
 
 enum class Material { sky, ground, banner, railing };
 /// Legend of the --materials channel M (the enum's values).
 constexpr const char* material_legend = "0 sky, 1 ground, 2 banner, 3 railing";
 
 struct Box {
-    Vec3 low, high;
+    Vec3 low{}, high{};
     Material material;
 };
 
 struct Hit {
     double t = std::numeric_limits<double>::infinity();
-    Vec3 normal;
+    Vec3 normal{};
     Material material = Material::sky;
 };
 
@@ -68,20 +69,20 @@ public:
         std::vector<Vec3> points;
         for (const Box& box : boxes_)
             for (int corner = 0; corner < 8; ++corner)
-                points.push_back({corner & 1 ? box.high.x : box.low.x, corner & 2 ? box.high.y : box.low.y,
-                                  corner & 4 ? box.high.z : box.low.z});
-        for (double x : {ground_low_.x, ground_high_.x})
-            for (double z : {ground_low_.z, ground_high_.z}) points.push_back({x, 0.0, z});
+                points.push_back({corner & 1 ? box.high[0] : box.low[0], corner & 2 ? box.high[1] : box.low[1],
+                                  corner & 4 ? box.high[2] : box.low[2]});
+        for (double x : {ground_low_[0], ground_high_[0]})
+            for (double z : {ground_low_[2], ground_high_[2]}) points.push_back({x, 0.0, z});
         return points;
     }
 
     /// The nearest surface along origin + t direction (t > 0).
     Hit intersect(Vec3 origin, Vec3 direction) const {
         Hit nearest;
-        if (direction.y < 0 && origin.y > 0) {
-            const double t = -origin.y / direction.y;
+        if (direction[1] < 0 && origin[1] > 0) {
+            const double t = -origin[1] / direction[1];
             const Vec3 p = origin + t * direction;
-            if (p.x >= ground_low_.x && p.x <= ground_high_.x && p.z >= ground_low_.z && p.z <= ground_high_.z) {
+            if (p[0] >= ground_low_[0] && p[0] <= ground_high_[0] && p[2] >= ground_low_[2] && p[2] <= ground_high_[2]) {
                 nearest.t = t;
                 nearest.normal = {0, 1, 0};
                 nearest.material = Material::ground;
@@ -91,8 +92,8 @@ public:
             // Slabs: the entry is the last of the three axis entries.
             double enter = -std::numeric_limits<double>::infinity(), leave = std::numeric_limits<double>::infinity();
             int enter_axis = 0;
-            const double o[3] = {origin.x, origin.y, origin.z}, d[3] = {direction.x, direction.y, direction.z};
-            const double lo[3] = {box.low.x, box.low.y, box.low.z}, hi[3] = {box.high.x, box.high.y, box.high.z};
+            const double o[3] = {origin[0], origin[1], origin[2]}, d[3] = {direction[0], direction[1], direction[2]};
+            const double lo[3] = {box.low[0], box.low[1], box.low[2]}, hi[3] = {box.high[0], box.high[1], box.high[2]};
             bool missed = false;
             for (int axis = 0; axis < 3 && !missed; ++axis) {
                 if (d[axis] == 0.0) {
@@ -160,16 +161,16 @@ public:
     /// Opacity in [0, 1) of plane k's slab at point p (on the plane).
     double opacity(Vec3 p) const {
         // Column: axis sways with height, radius grows.
-        const double axis_x = axis_x_ + sway_ * std::sin(3.0 * p.y);
-        const double radius = radius_ + growth_ * std::clamp((p.y - bottom_) / (top_ - bottom_), 0.0, 1.0);
-        const double r = std::hypot(p.x - axis_x, p.z - axis_z_) / radius;
+        const double axis_x = axis_x_ + sway_ * std::sin(3.0 * p[1]);
+        const double radius = radius_ + growth_ * std::clamp((p[1] - bottom_) / (top_ - bottom_), 0.0, 1.0);
+        const double r = std::hypot(p[0] - axis_x, p[2] - axis_z_) / radius;
         const double column = 1.0 - smoothstep(0.35, 1.0, r);
-        const double fade = smoothstep(bottom_, bottom_ + 0.2, p.y) * (1.0 - smoothstep(top_ - 0.25, top_, p.y));
+        const double fade = smoothstep(bottom_, bottom_ + 0.2, p[1]) * (1.0 - smoothstep(top_ - 0.25, top_, p[1]));
         if (column <= 0.0 || fade <= 0.0) return 0.0;
         // Turbulence: four octaves of value noise.
         double noise = 0.0, amplitude = 0.5, frequency = 6.0;
         for (int octave = 0; octave < 4; ++octave, amplitude *= 0.5, frequency *= 2.0)
-            noise += amplitude * value_noise(frequency * p.x, frequency * p.y, frequency * p.z);
+            noise += amplitude * value_noise(frequency * p[0], frequency * p[1], frequency * p[2]);
         const double density = column * fade * std::max(0.0, 2.2 * noise - 0.35);
         // Slab thickness in world units along the light (the depth range spans far - near).
         return 1.0 - std::exp(-density * extinction_ * slab_world_thickness());
@@ -218,7 +219,7 @@ double albedo(Material material, Vec3 p) {
     switch (material) {
     case Material::ground: {
         // A faint 0.5 m checkerboard makes the ground read as a floor.
-        const bool odd = (static_cast<long>(std::floor(p.x * 2)) + static_cast<long>(std::floor(p.z * 2))) & 1;
+        const bool odd = (static_cast<long>(std::floor(p[0] * 2)) + static_cast<long>(std::floor(p[2] * 2))) & 1;
         return odd ? 0.50 : 0.58;
     }
     case Material::banner: return 0.85;
@@ -328,7 +329,7 @@ int run(const Options& options) {
             receivers.points.v.push_back(static_cast<float>(v));
             receivers.points.z.push_back(static_cast<float>(std::clamp(d, 0.0, 1.0)));
             const double a = albedo(hit.material, p);
-            const double lambert = std::max(0.0, -dot(hit.normal, light.forward));
+            const double lambert = std::max(0.0, -msmcl::data::dot(hit.normal, light.forward));
             ambient[i] = static_cast<float>(a * ambient_share);
             direct[i] = static_cast<float>(a * (1 - ambient_share) * lambert);
 

@@ -4,6 +4,7 @@
 #include "ops/translucent_layers.hpp"
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/enum_names.hpp"
 #include "runtime/tuning.hpp"
 #include "runtime/work_distribution.hpp"
 
@@ -324,21 +325,18 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
 
 } // namespace
 
-const char* filter_kernel_name(FilterKernel kernel) noexcept {
-    switch (kernel) {
-        case FilterKernel::automatic: return "automatic";
-        case FilterKernel::fused_paper: return "fused_paper";
-        case FilterKernel::three_pass: return "three_pass";
-        case FilterKernel::fused_cpu: return "fused_cpu";
-    }
-    return "unknown";
-}
+// The names of FilterKernel values, both ways (filter_kernel_name, parse_filter_kernel).
+constexpr detail::EnumNames<FilterKernel> filter_kernel_names[] = {
+    {FilterKernel::automatic, "automatic"},
+    {FilterKernel::fused_paper, "fused_paper"},
+    {FilterKernel::three_pass, "three_pass"},
+    {FilterKernel::fused_cpu, "fused_cpu"},
+};
+
+const char* filter_kernel_name(FilterKernel kernel) noexcept { return detail::name_in(filter_kernel_names, kernel); }
 
 std::optional<FilterKernel> parse_filter_kernel(std::string_view name) noexcept {
-    for (FilterKernel kernel :
-         {FilterKernel::automatic, FilterKernel::fused_paper, FilterKernel::fused_cpu, FilterKernel::three_pass})
-        if (name == filter_kernel_name(kernel)) return kernel;
-    return std::nullopt;
+    return detail::parse_in(filter_kernel_names, name);
 }
 
 FilterKernel filter_kernel_for(const Context& context, FilterKernel requested) {

@@ -5,6 +5,7 @@
 #include "ops/translucent_layers.hpp"
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/enum_names.hpp"
 #include "runtime/work_distribution.hpp"
 
 #include "kernels/msm_sat.clh"
@@ -610,20 +611,18 @@ SatTable SatTable::layer(int index) const {
                     std::vector<std::uint32_t>(first, first + static_cast<std::ptrdiff_t>(layer_words))};
 }
 
-const char* sat_kernel_name(SatKernel kernel) noexcept {
-    switch (kernel) {
-        case SatKernel::automatic: return "automatic";
-        case SatKernel::tiled_gpu: return "tiled_gpu";
-        case SatKernel::tiled_cpu: return "tiled_cpu";
-        case SatKernel::row_per_thread: return "row_per_thread";
-    }
-    return "unknown";
-}
+// The names of SatKernel values, both ways (sat_kernel_name, parse_sat_kernel).
+constexpr detail::EnumNames<SatKernel> sat_kernel_names[] = {
+    {SatKernel::automatic, "automatic"},
+    {SatKernel::tiled_gpu, "tiled_gpu"},
+    {SatKernel::tiled_cpu, "tiled_cpu"},
+    {SatKernel::row_per_thread, "row_per_thread"},
+};
+
+const char* sat_kernel_name(SatKernel kernel) noexcept { return detail::name_in(sat_kernel_names, kernel); }
 
 std::optional<SatKernel> parse_sat_kernel(std::string_view name) noexcept {
-    for (SatKernel kernel : {SatKernel::automatic, SatKernel::tiled_gpu, SatKernel::tiled_cpu, SatKernel::row_per_thread})
-        if (name == sat_kernel_name(kernel)) return kernel;
-    return std::nullopt;
+    return detail::parse_in(sat_kernel_names, name);
 }
 
 SatKernel sat_kernel_for(const Context& context, SatKernel requested) {

@@ -4,6 +4,7 @@
 #include "ops/transfer.hpp"
 #include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/enum_names.hpp"
 #include "runtime/work_distribution.hpp"
 
 #include <msmcl/errors.hpp>
@@ -97,6 +98,16 @@ double sine_between(const Vector3& a, const Vector3& b) {
     return length(cross(a, b)) / (length(a) * length(b));
 }
 
+/// The axes of a light or camera looking along `forward` (normalized), with `up_hint`
+/// fixing the roll: right = forward x up_hint, up = right x forward.
+detail::CameraFrame orthonormal_frame(const Vector3& forward, const Vector3& up_hint) {
+    detail::CameraFrame frame;
+    frame.forward = normalize(forward);
+    frame.right = normalize(cross(frame.forward, up_hint));
+    frame.up = cross(frame.right, frame.forward);
+    return frame;
+}
+
 double wrap_angle(double phi) {
     phi = std::fmod(phi, 2 * pi);
     return phi < 0 ? phi + 2 * pi : phi;
@@ -107,20 +118,15 @@ double wrap_angle(double phi) {
 namespace detail {
 
 LightFrame light_frame(const ScatterLight& light) {
-    LightFrame frame;
-    frame.direction = normalize(light.direction);
-    frame.right = normalize(cross(frame.direction, light.up));
-    frame.up = cross(frame.right, frame.direction);
-    return frame;
+    const CameraFrame frame = orthonormal_frame(light.direction, light.up);
+    LightFrame light_axes;
+    light_axes.direction = frame.forward;
+    light_axes.right = frame.right;
+    light_axes.up = frame.up;
+    return light_axes;
 }
 
-CameraFrame camera_frame(const ScatterCamera& camera) {
-    CameraFrame frame;
-    frame.forward = normalize(camera.forward);
-    frame.right = normalize(cross(frame.forward, camera.up));
-    frame.up = cross(frame.right, frame.forward);
-    return frame;
-}
+CameraFrame camera_frame(const ScatterCamera& camera) { return orthonormal_frame(camera.forward, camera.up); }
 
 msm_scatter_params make_scatter_params(const ScatterScene& scene, const RectificationBounds& bounds, int map_width,
                                        int map_height, int map_samples, float beta) {
@@ -386,6 +392,19 @@ cl::NDRange pixel_range(const ScatterScene& scene) {
     return cl::NDRange((scene.camera.width + 15) / 16 * 16, (scene.camera.height + 3) / 4 * 4);
 }
 
+/// Runs `kernel` over the camera's pixels (16x4 work-groups) after the wait list of
+/// `enqueue`, on its queue, and completes as it asks.
+void enqueue_over_pixels(detail::ContextImpl& impl, cl::Kernel& kernel, const ScatterScene& scene,
+                         const Enqueue& enqueue, const char* what) {
+    cl::CommandQueue queue = impl.queue_for(enqueue);
+    std::vector<cl::Event> waits = detail::wait_list(enqueue);
+    cl::Event done;
+    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, pixel_range(scene), cl::NDRange(16, 4),
+                                             waits.empty() ? nullptr : &waits, &done),
+                  what);
+    detail::complete(enqueue, queue, done);
+}
+
 void check_depth_values(const DepthImage& depth, const char* what) {
     if (depth.width <= 0 || depth.height <= 0)
         throw input_error(std::string(what) + ": the shadow map is empty");
@@ -541,13 +560,7 @@ void scatter_evaluate(Context& context, const ScatterScene& scene, cl_mem scatte
     detail::set_arg(kernel, 1, camera_depth);
     detail::check(kernel.setArg(2, sizeof(params), &params), "clSetKernelArg(params)");
     detail::set_arg(kernel, 3, radiance);
-    cl::CommandQueue queue = impl.queue_for(enqueue);
-    std::vector<cl::Event> waits = detail::wait_list(enqueue);
-    cl::Event done;
-    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, pixel_range(scene), cl::NDRange(16, 4),
-                                             waits.empty() ? nullptr : &waits, &done),
-                  "clEnqueueNDRangeKernel(scatter_evaluate)");
-    detail::complete(enqueue, queue, done);
+    enqueue_over_pixels(impl, kernel, scene, enqueue, "clEnqueueNDRangeKernel(scatter_evaluate)");
 }
 
 void scatter_ray_march(Context& context, const ScatterScene& scene, const DeviceDepth& shadow_map, cl_mem camera_depth,
@@ -567,13 +580,7 @@ void scatter_ray_march(Context& context, const ScatterScene& scene, const Device
     detail::set_arg(kernel, 3, static_cast<cl_int>(steps));
     detail::set_arg(kernel, 4, static_cast<cl_uint>(jitter_seed));
     detail::set_arg(kernel, 5, radiance);
-    cl::CommandQueue queue = impl.queue_for(enqueue);
-    std::vector<cl::Event> waits = detail::wait_list(enqueue);
-    cl::Event done;
-    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, pixel_range(scene), cl::NDRange(16, 4),
-                                             waits.empty() ? nullptr : &waits, &done),
-                  "clEnqueueNDRangeKernel(scatter_ray_march)");
-    detail::complete(enqueue, queue, done);
+    enqueue_over_pixels(impl, kernel, scene, enqueue, "clEnqueueNDRangeKernel(scatter_ray_march)");
 }
 
 ScatterMap scatter_prefilter(Context& context, const ScatterScene& scene, const DepthImage& shadow_map,
@@ -687,19 +694,17 @@ std::vector<float> decode_scatter_map(const ScatterMap& map) {
     return values;
 }
 
-const char* scatter_kernel_name(ScatterKernel kernel) noexcept {
-    switch (kernel) {
-        case ScatterKernel::automatic: return "automatic";
-        case ScatterKernel::rows_gpu: return "rows_gpu";
-        case ScatterKernel::rows_cpu: return "rows_cpu";
-    }
-    return "unknown";
-}
+// The names of ScatterKernel values, both ways (scatter_kernel_name, parse_scatter_kernel).
+constexpr detail::EnumNames<ScatterKernel> scatter_kernel_names[] = {
+    {ScatterKernel::automatic, "automatic"},
+    {ScatterKernel::rows_gpu, "rows_gpu"},
+    {ScatterKernel::rows_cpu, "rows_cpu"},
+};
+
+const char* scatter_kernel_name(ScatterKernel kernel) noexcept { return detail::name_in(scatter_kernel_names, kernel); }
 
 std::optional<ScatterKernel> parse_scatter_kernel(std::string_view name) noexcept {
-    for (ScatterKernel kernel : {ScatterKernel::automatic, ScatterKernel::rows_gpu, ScatterKernel::rows_cpu})
-        if (name == scatter_kernel_name(kernel)) return kernel;
-    return std::nullopt;
+    return detail::parse_in(scatter_kernel_names, name);
 }
 
 } // namespace msmcl

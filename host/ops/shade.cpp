@@ -3,6 +3,7 @@
 #include "ops/transfer.hpp"
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/enum_names.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
@@ -15,20 +16,16 @@
 
 namespace msmcl {
 
-const char* lookup_name(Lookup lookup) noexcept {
-    switch (lookup) {
-        case Lookup::nearest: return "nearest";
-        case Lookup::bilinear: return "bilinear";
-        case Lookup::dither: return "dither";
-    }
-    return "unknown";
-}
+// The names of Lookup values, both ways (lookup_name, parse_lookup).
+constexpr detail::EnumNames<Lookup> lookup_names[] = {
+    {Lookup::nearest, "nearest"},
+    {Lookup::bilinear, "bilinear"},
+    {Lookup::dither, "dither"},
+};
 
-std::optional<Lookup> parse_lookup(std::string_view name) noexcept {
-    for (Lookup l : {Lookup::nearest, Lookup::bilinear, Lookup::dither})
-        if (name == lookup_name(l)) return l;
-    return std::nullopt;
-}
+const char* lookup_name(Lookup lookup) noexcept { return detail::name_in(lookup_names, lookup); }
+
+std::optional<Lookup> parse_lookup(std::string_view name) noexcept { return detail::parse_in(lookup_names, name); }
 
 namespace {
 

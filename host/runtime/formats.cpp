@@ -1,4 +1,6 @@
 // Names and sizes of formats and depth conventions.
+#include "runtime/enum_names.hpp"
+
 #include <msmcl/errors.hpp>
 #include <msmcl/formats.hpp>
 
@@ -7,21 +9,17 @@
 
 namespace msmcl {
 
-const char* format_name(Format format) noexcept {
-    switch (format) {
-        case Format::moments128: return "moments128";
-        case Format::msm64: return "msm64";
-        case Format::nlq64: return "nlq64";
-        case Format::nlq32: return "nlq32";
-    }
-    return "unknown";
-}
+// The names of Format values, both ways (format_name, parse_format).
+constexpr detail::EnumNames<Format> format_names[] = {
+    {Format::moments128, "moments128"},
+    {Format::msm64, "msm64"},
+    {Format::nlq64, "nlq64"},
+    {Format::nlq32, "nlq32"},
+};
 
-std::optional<Format> parse_format(std::string_view name) noexcept {
-    for (Format f : {Format::moments128, Format::msm64, Format::nlq64, Format::nlq32})
-        if (name == format_name(f)) return f;
-    return std::nullopt;
-}
+const char* format_name(Format format) noexcept { return detail::name_in(format_names, format); }
+
+std::optional<Format> parse_format(std::string_view name) noexcept { return detail::parse_in(format_names, name); }
 
 const char* depth_range_name(DepthRange range) noexcept {
     return range == DepthRange::zero_one ? "0,1" : "-1,1";

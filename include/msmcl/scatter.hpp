@@ -27,8 +27,6 @@
 
 namespace msmcl {
 
-using Vector3 = std::array<double, 3>;
-
 /// The directional light and its orthographic shadow map. Map axes: right =
 /// normalize(direction x up), map_up = right x direction. A world point P has texel
 /// coordinates u = (dot(P - center, right) / width + 1/2) * map width, v = (1/2 -

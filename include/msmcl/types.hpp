@@ -6,6 +6,7 @@
 #pragma once
 
 #include <msmcl/formats.hpp>
+#include <msmcl/vector3.hpp>
 
 #include <CL/cl.h>
 

@@ -9,13 +9,17 @@
 #include "reference/filter_reference.hpp"
 #include "reference/moment_math.hpp"
 
+#include <msmcl/vector3.hpp>
+
 #include <array>
 #include <cstdint>
 #include <vector>
 
 namespace msmcl::reference {
 
-using Vec3 = std::array<double, 3>;
+/// The library's 3-vector type (include/msmcl/vector3.hpp); the vector math on it is the
+/// reference's own (scatter_reference.cpp).
+using Vec3 = msmcl::Vector3;
 
 /// The scene as plain numbers (mirrors msmcl::ScatterScene; see include/msmcl/scatter.hpp
 /// for the conventions).
