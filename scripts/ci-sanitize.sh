@@ -17,7 +17,7 @@ bash scripts/install-deps.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 build_dir=${MSMCL_SANITIZE_BUILD_DIR:-build-sanitize}
 tsan_dir=${MSMCL_TSAN_BUILD_DIR:-build-tsan}
-tests=(capi_test capi_c_test cli_test cli_conventions_test concurrency_test containers_test faults_test interop_test
+tests=(capi_test capi_c_test batch_cli_test cli_test cli_conventions_test concurrency_test containers_test faults_test interop_test
        io_test runtime_test scatter_cli_test math_df_test math_formats_test math_hamburger_test
        math_nlq_test math_shade_receiver_test)
 tests_present=()

@@ -7,6 +7,8 @@ packages=(
   ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libopenexr-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
+  # Boost.Asio's thread pool (header-only) for the batch form of the CLI.
+  libboost-dev
   glslang-tools
   oclgrind
   mesa-vulkan-drivers libvulkan-dev spirv-tools

@@ -12,7 +12,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 
 # Build the CLI and the sample-data tools; generate the larger sample scenes (1024^2).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-scatter-scene msmcl-quality msmcl-vulkan
+cmake --build "$build" -j"$jobs" --target msmcl_cli msmcl-scene msmcl-rasterize msmcl-preview msmcl-lookup-preview msmcl-signed-difference msmcl-soft-truth msmcl-scatter-scene msmcl-quality msmcl-vulkan
 cmake --build "$build" --target msmcl_sample_data
 msmcl=$build/msmcl
 tools=$build/tools
@@ -61,21 +61,43 @@ for entry in nlq32:1e-6 msm64:1e-4; do
 done
 
 # Soft shadows: a summed-area table of the moments, then moment soft shadow mapping with a
-# directional light of finite size (contact hardening at the railing posts, at Wuson's feet).
+# directional light of finite size (contact hardening at the railing posts, at Wuson's feet),
+# with the library's refinements (<scene>_soft.png) and as published (<scene>_soft_published.png);
+# beside them brute-force PCSS in double precision with the same search square, light size,
+# depth bias and filter clamp (<scene>_soft_pcss.png), and the signed differences from it
+# (<scene>_soft_diff_pm0.5.png, <scene>_soft_published_diff_pm0.5.png: red lighter than
+# PCSS, blue darker, full colour at +-0.5; tools/signed_difference.hpp). Their statistics go
+# to soft_vs_pcss.txt.
+: >"$out/soft_vs_pcss.txt"
+preview() { # EXR PNG LIGHTING: the shadow intensity, lit by the view's shading where there is one
+  if [ -n "$3" ]; then "$tools/msmcl-preview" "$1" "$2" --lighting "$3"; else "$tools/msmcl-preview" "$1" "$2" --black 1 --white 0; fi
+}
 for entry in "${scenes[@]}"; do
   IFS=: read -r name depth receivers lighting <<<"$entry"
   case $name in
     *_256) max_kernel=729; light_size=40 ;;
     *) max_kernel=4096; light_size=60 ;;
   esac
+  light=(--light-size "$light_size" --depth-bias 0.02)
   "$msmcl" sat "$depth" "$out/${name}_sat.exr" --max-kernel "$max_kernel"
-  "$msmcl" soft "$out/${name}_sat.exr" "$receivers" "$out/${name}_soft_shadow.exr" --light-size "$light_size" --depth-bias 0.02
-  if [ -n "$lighting" ]; then
-    "$tools/msmcl-preview" "$out/${name}_soft_shadow.exr" "$out/${name}_soft.png" --lighting "$lighting"
-  else
-    "$tools/msmcl-preview" "$out/${name}_soft_shadow.exr" "$out/${name}_soft.png" --black 1 --white 0
-  fi
+  "$msmcl" soft "$out/${name}_sat.exr" "$receivers" "$out/${name}_soft_shadow.exr" "${light[@]}"
+  "$msmcl" soft "$out/${name}_sat.exr" "$receivers" "$out/${name}_soft_published_shadow.exr" "${light[@]}" --published
+  "$tools/msmcl-soft-truth" pcss "$depth" "$receivers" "$out/${name}_soft_pcss_shadow.exr" "${light[@]}" --max-kernel "$max_kernel"
+  for method in soft soft_published soft_pcss; do
+    preview "$out/${name}_${method}_shadow.exr" "$out/${name}_${method}.png" "$lighting"
+  done
+  for method in soft soft_published; do
+    echo -n "$name $method vs PCSS: " >>"$out/soft_vs_pcss.txt"
+    "$tools/msmcl-signed-difference" "$out/${name}_${method}_shadow.exr" "$out/${name}_soft_pcss_shadow.exr" \
+      "$out/${name}_${method}_diff_pm0.5.png" --range 0.5 >>"$out/soft_vs_pcss.txt"
+  done
 done
+cat "$out/soft_vs_pcss.txt"
+# The before/after figures of docs/soft_shadows.md (matplotlib; Debian's python3).
+python=python3
+"$python" -c 'import matplotlib' 2>/dev/null || python=/usr/bin/python3
+"$python" scripts/soft_figure.py "$out" railing_1024 "$out/railing_1024_soft_vs_pcss.png" --crop 40,150,600,400
+"$python" scripts/soft_figure.py "$out" wuson_1024 "$out/wuson_1024_soft_vs_pcss.png"
 
 # Blue-noise dithering of nlq64 seen magnified (256^2 map, 640x480 view): nearest | bilinear | dither | mean of 64 frames.
 "$tools/msmcl-scene" --width 256 --samples 4 --depth "$out/railing_256_depth.exr" \

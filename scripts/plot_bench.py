@@ -10,7 +10,8 @@ it reaches (the copy of the same bytes timed beside it: copy ms / case ms). The 
 the map size (texels per side, log scale). Colours tell the cases apart; with several
 sample counts in the file, line styles tell the sample counts apart (or --samples picks
 one). Rows without a time (the build and first-call rows, whose size is a configuration
-rather than a sweep) are left out of the lines.
+rather than a sweep) and the command-line batch rows (batch_cli, batch_loop) are left out
+of the lines.
 """
 
 import argparse
@@ -57,7 +58,12 @@ def series(rows, case, samples, fmt, metric):
 
 
 def plot(rows, out_path, only_samples=None):
-    rows = [r for r in rows if isinstance(r.get("ms_median"), (int, float))]
+    # The command-line batch rows time N files through whole processes, not one map on the
+    # device: they are compared with each other (loop_over_batch), not plotted here.
+    rows = [
+        r for r in rows
+        if isinstance(r.get("ms_median"), (int, float)) and not str(r.get("case")).startswith("batch_")
+    ]
     if only_samples is not None:
         rows = [r for r in rows if r.get("samples") == only_samples]
     if not rows:

@@ -646,7 +646,9 @@ struct msm_sat_blockers {
     float blocker_depth;
 };
 // Filled from uniforms: map size, scale = floor((2^32 - 1) / N), blocker search side K
-// (K^2 <= N), penumbra texels per unit of depth, filter side limits (max <= floor(sqrt(N))).
+// (K^2 <= N), penumbra texels per unit of depth, filter side limits (max <= floor(sqrt(N))),
+// the refinements of msmcl's SoftShadowOptions (receiver blocker weight, default 0.1, and
+// filter parts per side, default 2; 0 and 1 give the published method).
 struct msm_sat_soft_params {
     int width;
     int height;
@@ -655,6 +657,8 @@ struct msm_sat_soft_params {
     float light_size;
     float min_filter_size;
     float max_filter_size;
+    float receiver_weight;
+    int filter_parts;
 };
 
 msm_moments msm_sat_moments_of_basis(msm_sat_basis c) {
@@ -791,8 +795,9 @@ msm_sat_basis msm_sat_interpolated_mean(Texture2D<uint4> table, uint scale, floa
     return acc;
 }
 
-// Blocker search: three-depth reconstruction through zf, eps-weighted average blocker depth.
-msm_sat_blockers msm_sat_blocker_search(msm_moments biased, float zf) {
+// Blocker search: three-depth reconstruction through zf, average blocker depth weighted
+// towards zf by eps plus receiver_weight times the weight w0 of the point at zf.
+msm_sat_blockers msm_sat_blocker_search(msm_moments biased, float zf, float receiver_weight) {
     msm_hamburger_bounds bounds = msm_hamburger4(biased, zf);
     float rest = 1.0f - bounds.w0;
     msm_sat_blockers result;
@@ -819,7 +824,8 @@ msm_sat_blockers msm_sat_blocker_search(msm_moments biased, float zf) {
         }
     }
     result.shadow = share;
-    result.blocker_depth = (MSM_SAT_BLOCKER_EPS * zf + weighted_depth) / (MSM_SAT_BLOCKER_EPS + share);
+    float at_receiver = MSM_SAT_BLOCKER_EPS + receiver_weight * clamp(bounds.w0, 0.0f, 1.0f);
+    result.blocker_depth = (at_receiver * zf + weighted_depth) / (at_receiver + share);
     return result;
 }
 
@@ -843,20 +849,43 @@ float msm_sat_filter_size(msm_sat_soft_params p, float zf, float blocker_depth) 
     return clamp(penumbra, p.min_filter_size, p.max_filter_size);
 }
 
+// 4MSM lower bound at zf of the moments over [left, right) x [top, bottom).
+float msm_sat_filtered_shadow(Texture2D<uint4> table, msm_sat_soft_params p, float left, float top, float right,
+                              float bottom, float zf) {
+    msm_moments b = msm_sat_moments_of_basis(msm_sat_interpolated_mean(table, p.scale, left, top, right, bottom));
+    return msm_hamburger4_lower(msm_bias(b, MSM_SAT_ALPHA, MSM_SAT_BSTAR), zf);
+}
+
 // Soft shadow (0 lit, 1 shadowed) of a receiver at (u, v) in texels, internal depth zf
 // (bias already subtracted).
 float msm_sat_soft_shadow(Texture2D<uint4> table, msm_sat_soft_params p, float u, float v, float zf) {
     u = msm_is_nan(u) ? 0.0f : clamp(u, 0.0f, float(p.width));
     v = msm_is_nan(v) ? 0.0f : clamp(v, 0.0f, float(p.height));
-    msm_sat_blockers blockers = msm_sat_blocker_search(msm_sat_search_moments(table, p, u, v), zf);
+    msm_sat_blockers blockers = msm_sat_blocker_search(msm_sat_search_moments(table, p, u, v), zf, p.receiver_weight);
     if (blockers.shadow > 1.0f - MSM_SAT_UMBRA_EPS) return 1.0f;
     float half_side = 0.5f * msm_sat_filter_size(p, zf, blockers.blocker_depth);
     float left = msm_maxf(u - half_side, 0.0f);
     float right = msm_minf(u + half_side, float(p.width));
     float top = msm_maxf(v - half_side, 0.0f);
     float bottom = msm_minf(v + half_side, float(p.height));
-    msm_moments b = msm_sat_moments_of_basis(msm_sat_interpolated_mean(table, p.scale, left, top, right, bottom));
-    return msm_hamburger4_lower(msm_bias(b, MSM_SAT_ALPHA, MSM_SAT_BSTAR), zf);
+    if (p.filter_parts <= 1) return msm_sat_filtered_shadow(table, p, left, top, right, bottom, zf);
+    // n x n equal parts, each its own 4MSM bound, weighted by area.
+    float n = float(p.filter_parts);
+    float shadow = 0.0f;
+    float area = 0.0f;
+    for (int j = 0; j < p.filter_parts; ++j)
+        for (int i = 0; i < p.filter_parts; ++i) {
+            float l = i == 0 ? left : left + (right - left) * (float(i) / n);
+            float r = i + 1 == p.filter_parts ? right : left + (right - left) * (float(i + 1) / n);
+            float t = j == 0 ? top : top + (bottom - top) * (float(j) / n);
+            float b = j + 1 == p.filter_parts ? bottom : top + (bottom - top) * (float(j + 1) / n);
+            float part_area = (r - l) * (b - t);
+            if (part_area > 0.0f) {
+                shadow += part_area * msm_sat_filtered_shadow(table, p, l, t, r, b, zf);
+                area += part_area;
+            }
+        }
+    return area > 0.0f ? shadow / area : msm_sat_filtered_shadow(table, p, left, top, right, bottom, zf);
 }
 
 // ---- Prefiltered single scattering (msm_scatter.clh; docs/math.md): decoding the

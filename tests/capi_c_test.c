@@ -44,6 +44,7 @@ static void run(msmcl_context* context) {
     msmcl_filter_options filter_options;
     msmcl_shade_options shade_options;
     msmcl_sat_options sat_options;
+    msmcl_soft_options soft_options;
     msmcl_enqueue blocking;
     msmcl_device_depth device_depth;
     msmcl_device_layers device_layers;
@@ -76,6 +77,9 @@ static void run(msmcl_context* context) {
     msmcl_sat_options_init(&sat_options);
     EXPECT_OK(msmcl_sat_scale(sat_options.max_kernel_texels, &scale));
     EXPECT_OK(msmcl_build_sat(context, depth, WIDTH, HEIGHT, SAMPLES, &sat_options, table, 4 * TEXELS));
+    msmcl_soft_options_init(&soft_options);
+    EXPECT_OK(msmcl_soft_shade(context, table, WIDTH, HEIGHT, sat_options.max_kernel_texels, u, v, z, RECEIVERS,
+                               &soft_options, intensity));
     EXPECT_OK(msmcl_build_sat_layered(context, depth, WIDTH, HEIGHT, SAMPLES, &layer, 1, &sat_options, table,
                                       4 * TEXELS));
 

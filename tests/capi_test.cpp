@@ -243,6 +243,17 @@ TEST(CapiPlain, OptionDefaultsAreTheCppDefaults) {
     EXPECT_EQ(sat.kernel, MSMCL_SAT_KERNEL_AUTOMATIC);
     EXPECT_EQ(sat_cpp.kernel, msmcl::SatKernel::automatic);
     EXPECT_EQ(MSMCL_MAX_TRANSLUCENT_LAYERS, msmcl::max_translucent_layers);
+
+    msmcl_soft_options soft;
+    msmcl_soft_options_init(&soft);
+    const msmcl::SoftShadowOptions soft_cpp;
+    EXPECT_EQ(soft.light_size, soft_cpp.light_size);
+    EXPECT_EQ(soft.search_size, soft_cpp.search_size);
+    EXPECT_EQ(soft.min_filter_size, soft_cpp.min_filter_size);
+    EXPECT_EQ(soft.depth_bias, soft_cpp.depth_bias);
+    EXPECT_EQ(soft.depth_range, MSMCL_DEPTH_RANGE_ZERO_ONE);
+    EXPECT_EQ(soft.receiver_blocker_weight, soft_cpp.receiver_blocker_weight);
+    EXPECT_EQ(soft.filter_parts, soft_cpp.filter_parts);
 }
 
 TEST_F(Capi, ContextsAreTheCppContexts) {
@@ -542,6 +553,61 @@ TEST_F(Capi, BuildSatEqualsCpp) {
 }
 
 // What the C++ API throws arrives as its status, with its message (and OpenCL code).
+// Soft shadows with the defaults, the published method and other values of every option.
+TEST_F(Capi, SoftShadeEqualsCpp) {
+    msmcl::SatOptions sat;
+    sat.max_kernel_texels = 100;
+    const msmcl::SatTable table = msmcl::build_sat(*context_, depth_, sat);
+    std::mt19937 random(seed_ + 2);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    msmcl::Receivers receivers;
+    for (int i = 0; i < 200; ++i) {
+        receivers.u.push_back(-2.0f + (width + 4) * unit(random));
+        receivers.v.push_back(-2.0f + (height + 4) * unit(random));
+        receivers.z.push_back(unit(random));
+    }
+    for (int variant = 0; variant < 3; ++variant) {
+        msmcl_soft_options options;
+        msmcl_soft_options_init(&options);
+        msmcl::SoftShadowOptions cpp;
+        options.light_size = cpp.light_size = 20.0f;
+        if (variant == 1) { // as published
+            options.receiver_blocker_weight = cpp.receiver_blocker_weight = 0.0f;
+            options.filter_parts = cpp.filter_parts = 1;
+        } else if (variant == 2) {
+            options.search_size = cpp.search_size = 7;
+            options.min_filter_size = cpp.min_filter_size = 2.0f;
+            options.depth_bias = cpp.depth_bias = 0.02f;
+            options.depth_range = MSMCL_DEPTH_RANGE_MINUS_ONE_ONE;
+            cpp.depth_range = msmcl::DepthRange::minus_one_one;
+            options.receiver_blocker_weight = cpp.receiver_blocker_weight = 0.3f;
+            options.filter_parts = cpp.filter_parts = 3;
+        }
+        std::vector<float> intensity(receivers.size(), -1.0f);
+        ASSERT_EQ(msmcl_soft_shade(c_context_, table.words.data(), width, height, 100, receivers.u.data(),
+                                   receivers.v.data(), receivers.z.data(), receivers.size(), &options,
+                                   intensity.data()),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        EXPECT_EQ(intensity, msmcl::soft_shade(*context_, table, receivers, cpp)) << variant;
+    }
+    // Errors: the C++ API's, and NULL arguments named.
+    msmcl_soft_options bad;
+    msmcl_soft_options_init(&bad);
+    bad.filter_parts = 5;
+    msmcl::SoftShadowOptions bad_cpp;
+    bad_cpp.filter_parts = 5;
+    std::vector<float> intensity(receivers.size());
+    EXPECT_EQ(c_outcome(msmcl_soft_shade(c_context_, table.words.data(), width, height, 100, receivers.u.data(),
+                                         receivers.v.data(), receivers.z.data(), receivers.size(), &bad,
+                                         intensity.data())),
+              cpp_outcome([&] { msmcl::soft_shade(*context_, table, receivers, bad_cpp); }));
+    EXPECT_EQ(msmcl_soft_shade(c_context_, nullptr, width, height, 100, receivers.u.data(), receivers.v.data(),
+                               receivers.z.data(), receivers.size(), nullptr, intensity.data()),
+              MSMCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(msmcl_last_error_message()).find("table"), std::string::npos) << msmcl_last_error_message();
+}
+
 TEST_F(Capi, CppErrorsBecomeStatusAndMessage) {
     msmcl::DepthImage bad = depth_;
     bad.depth[(3 * width + 5) * samples + 1] = NAN;

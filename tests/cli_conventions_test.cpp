@@ -3,6 +3,7 @@
 // per stage and changes no output byte; the progress line appears on a terminal only (a
 // pseudo-terminal the test opens with forkpty), never in a pipe or file.
 #include "io/atomic_file.hpp"
+#include "process.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -15,7 +16,6 @@
 #include <filesystem>
 #include <string>
 #include <cerrno>
-#include <pty.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <utility>
@@ -132,41 +132,11 @@ TEST_F(CliConventions, VerbosePrintsATimingLinePerStageAndChangesNoByte) {
         EXPECT_NE(soft_log.find(std::string("msmcl: ") + stage + ": "), std::string::npos) << stage << "\n" << soft_log;
 }
 
-// Runs `argv` with stdin, stdout and stderr on a new pseudo-terminal and `variable` set;
-// returns everything it wrote there and its exit code. Independent of the test's own stdin
-// (CI has none), unlike util-linux `script`.
-std::pair<std::string, int> run_on_terminal(const std::vector<std::string>& argv, const char* variable) {
-    int master = -1;
-    const pid_t child = ::forkpty(&master, nullptr, nullptr, nullptr);
-    if (child < 0) return {"forkpty failed", -1};
-    if (child == 0) {
-        ::putenv(const_cast<char*>(variable));
-        std::vector<char*> arguments;
-        for (const std::string& a : argv) arguments.push_back(const_cast<char*>(a.c_str()));
-        arguments.push_back(nullptr);
-        ::execv(arguments[0], arguments.data());
-        ::_exit(127);
-    }
-    // Read until the child's side closes (EIO on Linux once the child has exited).
-    std::string text;
-    char buffer[4096];
-    for (;;) {
-        const ssize_t n = ::read(master, buffer, sizeof buffer);
-        if (n > 0) text.append(buffer, static_cast<std::size_t>(n));
-        else if (n < 0 && errno == EINTR) continue;
-        else break;
-    }
-    ::close(master);
-    int status = 0;
-    ::waitpid(child, &status, 0);
-    return {text, WIFEXITED(status) ? WEXITSTATUS(status) : -1};
-}
-
 TEST_F(CliConventions, ProgressOnlyOnATerminal) {
     if (!have_device()) GTEST_SKIP() << "no OpenCL device";
     const std::string depth = std::string(MSMCL_SOURCE_DIR) + "/data/railing_256x256_4x.exr";
     // On a pseudo-terminal, with the delay set to 0: the bar is drawn, then erased.
-    const auto [terminal, code] = run_on_terminal(
+    const auto [terminal, code] = msmcl::testing::run_on_terminal(
         {MSMCL_CLI_PATH, "filter", depth, path("tty.exr"), "--format", "msm64"}, "MSMCL_PROGRESS_AFTER_MS=0");
     ASSERT_EQ(code, 0) << terminal;
     EXPECT_NE(terminal.find("msmcl: ["), std::string::npos) << terminal;

@@ -1,12 +1,18 @@
 // Runs a program without a shell, for the tests and the bench: posix_spawn with stdout and
-// stderr sent to files, then the exit code. Header-only.
+// stderr sent to files, then the exit code; or on a pseudo-terminal (forkpty), for what a
+// program draws only for a person watching. Header-only.
 #pragma once
 
 #include <fcntl.h>
+#include <pty.h>
+#include <unistd.h>
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <cerrno>
+#include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 extern char** environ;
@@ -43,6 +49,36 @@ inline int run_process(std::vector<std::string> arguments, const std::string& ou
     int status = 0;
     waitpid(pid, &status, 0);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Runs `argv` with stdin, stdout and stderr on a new pseudo-terminal and `variable` set;
+// returns everything it wrote there and its exit code. Independent of the test's own stdin
+// (CI has none), unlike util-linux `script`.
+inline std::pair<std::string, int> run_on_terminal(const std::vector<std::string>& argv, const char* variable) {
+    int master = -1;
+    const pid_t child = ::forkpty(&master, nullptr, nullptr, nullptr);
+    if (child < 0) return {"forkpty failed", -1};
+    if (child == 0) {
+        ::putenv(const_cast<char*>(variable));
+        std::vector<char*> arguments;
+        for (const std::string& a : argv) arguments.push_back(const_cast<char*>(a.c_str()));
+        arguments.push_back(nullptr);
+        ::execv(arguments[0], arguments.data());
+        ::_exit(127);
+    }
+    // Read until the child's side closes (EIO on Linux once the child has exited).
+    std::string text;
+    char buffer[4096];
+    for (;;) {
+        const ssize_t n = ::read(master, buffer, sizeof buffer);
+        if (n > 0) text.append(buffer, static_cast<std::size_t>(n));
+        else if (n < 0 && errno == EINTR) continue;
+        else break;
+    }
+    ::close(master);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    return {text, WIFEXITED(status) ? WEXITSTATUS(status) : -1};
 }
 
 } // namespace msmcl::testing

@@ -263,7 +263,8 @@ bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
         static float sat_soft_shadow(const unsigned* table, const msm_sat_soft_params& p, float u, float v,         \
                                      float zf) {                                                                     \
             const ns::msm_sat_soft_params q{p.width,           p.height,          p.scale,          p.search_size,   \
-                                            p.light_size,      p.min_filter_size, p.max_filter_size};                \
+                                            p.light_size,      p.min_filter_size, p.max_filter_size,                 \
+                                            p.receiver_weight, p.filter_parts};                                      \
             return ns::msm_sat_soft_shadow(usampler_make(table, p.width, 4), q, u, v, zf);                           \
         }                                                                                                            \
         static ns::msm_moments6 moments6(const msm_moments6& b) {                                                    \
@@ -547,7 +548,9 @@ TYPED_TEST(ShaderLanguage, SatQueriesAndSoftShadowsMatchTheDeviceFunctions) {
                         same_bits(am.c3, em.c3))
                 << i;
         }
-        const msm_sat_soft_params p = msm_sat_soft_params_make(width, height, scale, 15, 40.0f, 1.0f, 15.0f);
+        // The published method and its refinements in turns.
+        const msm_sat_soft_params p = msm_sat_soft_params_refine(
+            msm_sat_soft_params_make(width, height, scale, 15, 40.0f, 1.0f, 15.0f), i % 2 ? 0.1f : 0.0f, 1 + i % 3);
         const float u = position(random) * width, v = position(random) * height;
         const float zf = std::uniform_real_distribution<float>(-1.0f, 1.0f)(random);
         const float shadow = msm_sat_soft_shadow(table.data(), p, u, v, zf);
@@ -675,6 +678,8 @@ void main() {
     p.light_size = 64.0f;
     p.min_filter_size = 1.0f;
     p.max_filter_size = 27.0f;
+    p.receiver_weight = 0.1f;
+    p.filter_parts = 2;
     results[12] = msm_sat_soft_shadow(sat_table, p, 3.2f, 4.7f, zf);
     vec2 uv = vec2(0.3f, 0.7f);
     msm_moments6 six = msm_decode_moments6(texture(moments6_odd, uv), texture(moments6_even, uv));
@@ -713,6 +718,8 @@ void main(uint3 id : SV_DispatchThreadID) {
     p.light_size = 64.0f;
     p.min_filter_size = 1.0f;
     p.max_filter_size = 27.0f;
+    p.receiver_weight = 0.1f;
+    p.filter_parts = 2;
     results[12] = msm_sat_soft_shadow(sat_table, p, 3.2f, 4.7f, zf);
     float2 uv = float2(0.3f, 0.7f);
     msm_moments6 six = msm_decode_moments6(moments6_odd.SampleLevel(bilinear, uv, 0), moments6_even.SampleLevel(bilinear, uv, 0));

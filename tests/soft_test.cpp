@@ -1,9 +1,11 @@
-// Moment soft shadow mapping (Peters et al., i3D 2016, section 3) on the OpenCL device (PoCL in CI):
+// Moment soft shadow mapping (Peters et al., i3D 2016, section 3) and its refinements
+// (docs/soft_shadows.md) on the OpenCL device (PoCL in CI):
 // against the same method evaluated by direct sums in long double, against brute-force
 // percentage-closer soft shadows (PCSS) on the sample scenes (error statistics printed,
 // bounds asserted), contact hardening, umbra and lit limits, the host build of the same
 // device code, the device API with events, and bad input.
 #include "reference/sat_reference.hpp"
+#include "reference/soft_analysis.hpp"
 
 #include "io/exr_io.hpp"
 #include "io/sat_exr.hpp"
@@ -75,6 +77,20 @@ ref::SoftParams reference_params(const SoftShadowOptions& options) {
     p.min_filter_size = options.min_filter_size;
     p.max_filter_size = limits.max_filter_size;
     return p;
+}
+
+ref::SoftVariant reference_variant(const SoftShadowOptions& options) {
+    ref::SoftVariant variant;
+    variant.receiver_weight = options.receiver_blocker_weight;
+    variant.parts = options.filter_parts;
+    return variant;
+}
+
+// The method as published: no receiver weight, one filter query.
+SoftShadowOptions published(SoftShadowOptions options) {
+    options.receiver_blocker_weight = 0.0f;
+    options.filter_parts = 1;
+    return options;
 }
 
 struct ErrorStats {
@@ -150,38 +166,59 @@ TEST_F(SoftTest, DeviceEqualsItsHostBuild) {
 }
 
 // Device soft shadows of a scene against (a) the same method by direct sums in long double
-// and (b) brute-force PCSS on the depth samples.
-void compare_with_references(msmcl::Context& context, const std::string& name, double method_mean_bound,
-                             double method_p99_bound, double pcss_mean_bound, double pcss_p99_bound) {
+// (sat_reference's moment_soft_shadow for the published method, soft_analysis' MomentTable
+// for the refined one, both from the texels the device quantized) and (b) brute-force PCSS
+// on the depth samples. Returns the device's shares lighter than PCSS by more than 0.3.
+struct PcssComparison {
+    ErrorStats vs_pcss;
+    double lighter = 0; // share of receivers lighter than PCSS by more than 0.3
+    double darker = 0;  // share darker by more than 0.3
+};
+PcssComparison compare_with_references(msmcl::Context& context, const std::string& name,
+                                       const SoftShadowOptions& options, double method_mean_bound,
+                                       double method_p99_bound, double pcss_mean_bound, double pcss_p99_bound) {
     const Scene scene = load_scene(context, name);
-    const SoftShadowOptions options = scene_options();
     const std::vector<float> device = msmcl::soft_shade(context, scene.table, scene.receivers, options);
 
     const ref::SatTexels texels = texels_of(scene.table);
     const ref::DepthMap map = reference_map(scene.depth);
     const ref::SoftParams params = reference_params(options);
+    const ref::PcssMap pcss_map(map);
+    const ref::MomentTable moment_table(texels, scene.table.scale);
+    const bool is_published = options.receiver_blocker_weight == 0.0f && options.filter_parts == 1;
     std::vector<double> method, pcss;
     int shadowed = 0;
+    PcssComparison result;
     for (std::size_t i = 0; i < scene.receivers.size(); ++i) {
+        const double u = scene.receivers.u[i], v = scene.receivers.v[i];
         const double zf = ref::internal_depth(scene.receivers.z[i], true) - options.depth_bias;
-        method.push_back(
-            ref::moment_soft_shadow(texels, scene.table.scale, scene.receivers.u[i], scene.receivers.v[i], zf, params)
-                .shadow);
-        pcss.push_back(ref::pcss_shadow(map, scene.receivers.u[i], scene.receivers.v[i], zf, params).shadow);
+        method.push_back(is_published
+                             ? ref::moment_soft_shadow(texels, scene.table.scale, u, v, zf, params).shadow
+                             : moment_table.soft_shadow(pcss_map, u, v, zf, params, {}, reference_variant(options)).shadow);
+        pcss.push_back(ref::pcss_shadow(map, u, v, zf, params).shadow);
         shadowed += pcss.back() > 0.5;
+        result.lighter += device[i] < pcss.back() - 0.3;
+        result.darker += device[i] > pcss.back() + 0.3;
     }
+    result.lighter /= device.size();
+    result.darker /= device.size();
     const ErrorStats vs_method = error_stats(device, method);
-    const ErrorStats vs_pcss = error_stats(device, pcss);
-    std::printf("  %s: %zu receivers, %d in shadow (PCSS > 0.5)\n", name.c_str(), device.size(), shadowed);
+    result.vs_pcss = error_stats(device, pcss);
+    const ErrorStats& vs_pcss = result.vs_pcss;
+    std::printf("  %s (%s): %zu receivers, %d in shadow (PCSS > 0.5)\n", name.c_str(),
+                is_published ? "published" : "refined", device.size(), shadowed);
     std::printf("  %s vs same method in long double: mean %.5f, p99 %.5f, max %.4f\n", name.c_str(), vs_method.mean,
                 vs_method.p99, vs_method.max);
-    std::printf("  %s vs brute-force PCSS: mean %.4f, p99 %.4f, max %.4f, share > 0.1: %.4f\n", name.c_str(),
-                vs_pcss.mean, vs_pcss.p99, vs_pcss.max, vs_pcss.share_above(0.1));
+    std::printf("  %s vs brute-force PCSS: mean %.4f, p99 %.4f, max %.4f, share > 0.1: %.4f, lighter by > 0.3: "
+                "%.4f, darker by > 0.3: %.4f\n",
+                name.c_str(), vs_pcss.mean, vs_pcss.p99, vs_pcss.max, vs_pcss.share_above(0.1), result.lighter,
+                result.darker);
     EXPECT_GT(shadowed, 100);
     EXPECT_LT(vs_method.mean, method_mean_bound);
     EXPECT_LT(vs_method.p99, method_p99_bound);
     EXPECT_LT(vs_pcss.mean, pcss_mean_bound);
     EXPECT_LT(vs_pcss.p99, pcss_p99_bound);
+    return result;
 }
 
 // Bounds: against the same method, float32 and the 22.5-bit table move the 4MSM results by
@@ -190,12 +227,79 @@ void compare_with_references(msmcl::Context& context, const std::string& name, d
 // region hold more than two surfaces near contact points, the blocker search's lower bound
 // then finds too little blocker mass and the filter leaks light (Peters et al., i3D 2016, Fig. 12); 1% of
 // the receivers differ by up to ~0.45.
-TEST_F(SoftTest, RailingSceneAgreesWithReferences) {
-    compare_with_references(context(), "railing", 0.005, 0.05, 0.06, 0.6);
+// The refinements (receiver blocker weight 0.1, 2 x 2 filter parts): against their own
+// long double evaluation the same float32 and table errors as above (each part is a query
+// like the published one's); against PCSS less light leaks than the published method on both
+// scenes (railing: 1.2% lighter by > 0.3 instead of 3.2%, p99 0.32 instead of 0.45; Wuson:
+// 0.3% instead of 2.4%, p99 0.21 instead of 0.39). Darker than PCSS by > 0.3: 2 of the
+// 19,200 railing receivers (at 256^2 a bar's shadow is a few texels wide and the 2 x 2 parts'
+// bounds, each tighter, can overshoot PCSS's box filter there); bound 0.1%. On the larger
+// unseen scenes of docs/soft_shadows.md none is.
+TEST_F(SoftTest, PublishedAndRefinedMethodsAgreeWithReferences) {
+    for (const char* name : {"railing", "wuson"}) {
+        const PcssComparison before =
+            compare_with_references(context(), name, published(scene_options()), 0.005, 0.05, 0.06, 0.6);
+        const PcssComparison after = compare_with_references(context(), name, scene_options(), 0.005, 0.05, 0.03, 0.4);
+        EXPECT_LT(after.vs_pcss.mean, before.vs_pcss.mean) << name;
+        EXPECT_LT(after.vs_pcss.p99, before.vs_pcss.p99) << name;
+        EXPECT_LT(after.lighter, 0.5 * before.lighter) << name;
+        EXPECT_LE(after.darker, 0.001) << name;
+    }
 }
 
-TEST_F(SoftTest, WusonSceneAgreesWithReferences) {
-    compare_with_references(context(), "wuson", 0.005, 0.05, 0.06, 0.6);
+// The whole-view references the tools use: PcssMap (min/max quadtree) is pcss_shadow, and
+// MomentTable (64-bit prefix sums) with no stage swapped is moment_soft_shadow, up to the
+// order of summation (1e-9), on random receivers in and around both scenes' maps.
+TEST_F(SoftTest, WholeViewReferencesEqualTheDirectOnes) {
+    for (const char* name : {"railing", "wuson"}) {
+        const Scene scene = load_scene(context(), name);
+        const ref::DepthMap map = reference_map(scene.depth);
+        const ref::SatTexels texels = texels_of(scene.table);
+        const ref::PcssMap pcss_map(map);
+        const ref::MomentTable moment_table(texels, scene.table.scale);
+        ref::SoftParams params = reference_params(scene_options());
+        std::mt19937 rng(seed_ + 3);
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        double worst_pcss = 0, worst_method = 0;
+        for (int i = 0; i < 400; ++i) {
+            const double u = unit(rng) * (map.width + 8) - 4, v = unit(rng) * (map.height + 8) - 4;
+            const double zf = 2 * unit(rng) - 1;
+            params.search_size = i % 2 ? 27 : 1 + i % 27;
+            const ref::SoftResult direct = ref::pcss_shadow(map, u, v, zf, params);
+            const ref::SoftResult fast = pcss_map.pcss(u, v, zf, params);
+            worst_pcss = std::max({worst_pcss, std::abs(direct.shadow - fast.shadow),
+                                   std::abs(direct.blocker_depth - fast.blocker_depth),
+                                   std::abs(direct.blocker_shadow - fast.blocker_shadow)});
+            worst_method = std::max(
+                worst_method, std::abs(ref::moment_soft_shadow(texels, scene.table.scale, u, v, zf, params).shadow -
+                                       moment_table.soft_shadow(pcss_map, u, v, zf, params).shadow));
+        }
+        std::printf("  %s: PcssMap vs pcss_shadow max %.2e, MomentTable vs moment_soft_shadow max %.2e\n", name,
+                    worst_pcss, worst_method);
+        EXPECT_LT(worst_pcss, 1e-9) << name;
+        EXPECT_LT(worst_method, 1e-9) << name;
+    }
+}
+
+// Every stage swapped for its exact counterpart at once is PCSS itself: the classification
+// of docs/soft_shadows.md always ends.
+TEST_F(SoftTest, AllStagesSwappedIsPcss) {
+    const Scene scene = load_scene(context(), "railing");
+    const ref::DepthMap map = reference_map(scene.depth);
+    const ref::PcssMap pcss_map(map);
+    const ref::MomentTable moment_table(map, kMaxKernel);
+    const ref::SoftParams params = reference_params(scene_options());
+    ref::SoftSwaps all;
+    all.unquantized_table = all.exact_blockers = all.plain_average = all.no_umbra_early_out = true;
+    all.pcss_filter_size = all.exact_filter = true;
+    double worst = 0;
+    for (std::size_t i = 0; i < scene.receivers.size(); i += 7) {
+        const double zf = ref::internal_depth(scene.receivers.z[i], true) - scene_options().depth_bias;
+        const double u = scene.receivers.u[i], v = scene.receivers.v[i];
+        worst = std::max(worst, std::abs(moment_table.soft_shadow(pcss_map, u, v, zf, params, all).shadow -
+                                         pcss_map.pcss(u, v, zf, params).shadow));
+    }
+    EXPECT_LT(worst, 1e-9);
 }
 
 // Ground at depth 0.9 everywhere; for y < edge a bar whose depth falls from 0.9 at x = 0
@@ -234,36 +338,45 @@ TEST_F(SoftTest, PenumbraGrowsWithBlockerDistance) {
     msmcl::SatOptions sat_options;
     sat_options.max_kernel_texels = kMaxKernel;
     const SatTable table = msmcl::build_sat(context(), depth, sat_options);
-    SoftShadowOptions options;
-    options.light_size = 40.0f;
+    SoftShadowOptions refined;
+    refined.light_size = 40.0f;
     const ref::DepthMap map = reference_map(depth);
-    const ref::SoftParams params = reference_params(options);
+    const ref::SoftParams params = reference_params(refined);
     const double step = 0.25;
-    std::vector<double> widths, expected;
-    for (double u : {24.5, 64.5, 128.5}) {
-        msmcl::Receivers line;
-        std::vector<float> pcss;
-        for (double v = edge - 20; v <= edge + 20; v += step) {
-            line.u.push_back(static_cast<float>(u));
-            line.v.push_back(static_cast<float>(v));
-            line.z.push_back(0.9f);
-            pcss.push_back(static_cast<float>(ref::pcss_shadow(map, u, v, 2 * 0.9 - 1 - options.depth_bias, params).shadow));
+    // The published method, each refinement alone, both (the default).
+    SoftShadowOptions weight_only = published(refined), parts_only = published(refined);
+    weight_only.receiver_blocker_weight = refined.receiver_blocker_weight;
+    parts_only.filter_parts = refined.filter_parts;
+    for (const SoftShadowOptions& options : {published(refined), weight_only, parts_only, refined}) {
+        std::printf("  receiver weight %.2f, %dx%d filter parts:\n", options.receiver_blocker_weight,
+                    options.filter_parts, options.filter_parts);
+        std::vector<double> widths, expected;
+        for (double u : {24.5, 64.5, 128.5}) {
+            msmcl::Receivers line;
+            std::vector<float> pcss;
+            for (double v = edge - 20; v <= edge + 20; v += step) {
+                line.u.push_back(static_cast<float>(u));
+                line.v.push_back(static_cast<float>(v));
+                line.z.push_back(0.9f);
+                pcss.push_back(
+                    static_cast<float>(ref::pcss_shadow(map, u, v, 2 * 0.9 - 1 - options.depth_bias, params).shadow));
+            }
+            const std::vector<float> shadow = msmcl::soft_shade(context(), table, line, options);
+            const double blocker = 0.9 - 0.5 * u / width;
+            const double filter = std::clamp(options.light_size * 2 * (0.9 - blocker), 1.0, 27.0);
+            widths.push_back(penumbra_width(shadow, step));
+            expected.push_back(0.8 * filter);
+            std::printf("    column %.1f: blocker %.3f, filter side %.1f -> penumbra %.2f texels (expected %.2f, PCSS %.2f)\n",
+                        u, blocker, filter, widths.back(), expected.back(), penumbra_width(pcss, step));
+            // Under the bar, lit far from it (up to the bias's leak; the bar slopes, so its
+            // search square is not a single depth and the umbra test may not cut in).
+            EXPECT_GT(shadow.front(), 0.99f);
+            EXPECT_LT(shadow.back(), 1e-4f);
         }
-        const std::vector<float> shadow = msmcl::soft_shade(context(), table, line, options);
-        const double blocker = 0.9 - 0.5 * u / width;
-        const double filter = std::clamp(options.light_size * 2 * (0.9 - blocker), 1.0, 27.0);
-        widths.push_back(penumbra_width(shadow, step));
-        expected.push_back(0.8 * filter);
-        std::printf("  column %.1f: blocker %.3f, filter side %.1f -> penumbra %.2f texels (expected %.2f, PCSS %.2f)\n",
-                    u, blocker, filter, widths.back(), expected.back(), penumbra_width(pcss, step));
-        // Under the bar, lit far from it (up to the bias's leak; the bar slopes, so its
-        // search square is not a single depth and the umbra test may not cut in).
-        EXPECT_GT(shadow.front(), 0.99f);
-        EXPECT_LT(shadow.back(), 1e-4f);
+        EXPECT_GT(widths[1], 1.5 * widths[0]);
+        EXPECT_GT(widths[2], 1.5 * widths[1]);
+        for (std::size_t i = 0; i < widths.size(); ++i) EXPECT_NEAR(widths[i], expected[i], 0.3 * expected[i] + 1.0);
     }
-    EXPECT_GT(widths[1], 1.5 * widths[0]);
-    EXPECT_GT(widths[2], 1.5 * widths[1]);
-    for (std::size_t i = 0; i < widths.size(); ++i) EXPECT_NEAR(widths[i], expected[i], 0.3 * expected[i] + 1.0);
 }
 
 TEST_F(SoftTest, DeviceApiHonoursEventsAndMatchesHostApi) {
@@ -356,6 +469,16 @@ TEST_F(SoftTest, BadInputIsRejected) {
     o.depth_bias = std::numeric_limits<float>::infinity();
     rejects(o);
     o = {};
+    o.receiver_blocker_weight = 1.5f;
+    rejects(o);
+    o.receiver_blocker_weight = std::numeric_limits<float>::quiet_NaN();
+    rejects(o);
+    o = {};
+    o.filter_parts = 0;
+    rejects(o);
+    o.filter_parts = 5;
+    rejects(o);
+    o = {};
     o.search_size = 10;
     EXPECT_NO_THROW(msmcl::soft_shade(context(), table, r, o));
     EXPECT_EQ(msmcl::soft_shadow_limits(100, SoftShadowOptions{}).search_size, 10);
@@ -427,6 +550,9 @@ TEST_F(SoftTest, CliSatAndSoftEqualTheLibrary) {
         "soft " + table_path + " " + receivers + " " + bad + " --light-size 40 --search-size 28", // 28^2 > N
         "soft " + table_path + " " + receivers + " " + bad,                                       // no light size
         "soft " + table_path + " " + receivers + " " + bad + " --light-size -1",
+        "soft " + table_path + " " + receivers + " " + bad + " --light-size 40 --filter-parts 5",
+        "soft " + table_path + " " + receivers + " " + bad + " --light-size 40 --receiver-weight 2",
+        "soft " + table_path + " " + receivers + " " + bad + " --light-size 40 --published --filter-parts 2",
         "soft " + depth + " " + receivers + " " + bad + " --light-size 40", // not a table
         "sat " + depth + " " + bad + " --max-kernel 1",
         "sat " + depth + " " + bad + " --max-kernel 27x27",

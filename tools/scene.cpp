@@ -233,6 +233,9 @@ struct Options {
     int width = 256, height = 0, samples = 4, smoke_planes = 0;
     int view_width = 320, view_height = 240;
     bool half = false;
+    // Light direction (towards the scene), the view's eye and target; other values give
+    // maps and views no test uses.
+    std::vector<double> light_direction{0.35, -0.55, -0.75}, eye{0.9, 1.9, 3.4}, target{0.3, 0.55, -0.6};
     std::string depth_path, receivers_path, lighting_path, hard_preview_path, depth_preview_path, materials_path;
 };
 
@@ -240,7 +243,8 @@ int run(const Options& options) {
     const int height = options.height > 0 ? options.height : options.width;
     const RailingScene scene;
     // Light from the upper left front, shining down and back onto the banner and the ground.
-    const Vec3 light_direction = msmcl::data::normalize({0.35, -0.55, -0.75});
+    const Vec3 light_direction =
+        msmcl::data::normalize({options.light_direction[0], options.light_direction[1], options.light_direction[2]});
     // With smoke, the map also covers the plume (nearer to the light than the opaque scene).
     SmokePlume smoke(options.smoke_planes);
     std::vector<Vec3> extent = scene.extent();
@@ -300,8 +304,9 @@ int run(const Options& options) {
         return 0;
 
     // View: each pixel's visible point, in light space, plus its lighting terms.
-    const msmcl::data::PerspectiveCamera camera({0.9, 1.9, 3.4}, {0.3, 0.55, -0.6}, 42.0, options.view_width,
-                                                options.view_height);
+    const msmcl::data::PerspectiveCamera camera({options.eye[0], options.eye[1], options.eye[2]},
+                                                {options.target[0], options.target[1], options.target[2]}, 42.0,
+                                                options.view_width, options.view_height);
     msmcl::io::ReceiverGrid receivers;
     receivers.width = options.view_width;
     receivers.height = options.view_height;
@@ -395,6 +400,15 @@ int main(int argc, char** argv) {
                    std::string("EXR with the material of each view pixel, channel M (") + material_legend + ")");
     app.add_option("--hard-preview", options.hard_preview_path, "PNG of the view with unfiltered hard shadows");
     app.add_option("--depth-preview", options.depth_preview_path, "PNG of sample 0 of the depth map");
+    app.add_option("--light-direction", options.light_direction, "direction the light shines in: X,Y,Z (y up)")
+        ->delimiter(',')
+        ->expected(3)
+        ->capture_default_str();
+    app.add_option("--eye", options.eye, "the view's camera position: X,Y,Z")->delimiter(',')->expected(3)->capture_default_str();
+    app.add_option("--target", options.target, "the point the view looks at: X,Y,Z")
+        ->delimiter(',')
+        ->expected(3)
+        ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     try {
         return run(options);

@@ -12,7 +12,7 @@
 //   msmcl-vulkan devices
 //   msmcl-vulkan shade MAP.ktx2 RECEIVERS.exr OUT.exr [--lookup nearest|bilinear|dither|hardware] [--frame N]
 //                [--depth-bias B] [--depth-range 0,1|-1,1] [--accurate] [--hlsl]
-//   msmcl-vulkan soft SAT.ktx2 RECEIVERS.exr OUT.exr --light-size L [--search-size K] [--min-filter F]
+//   msmcl-vulkan soft SAT.ktx2 RECEIVERS.exr OUT.exr --light-size L [--search-size K] [--min-filter F] [--published]
 //                [--depth-bias B] [--depth-range R] [--hlsl]
 //   msmcl-vulkan scatter SCENE.json MAP.ktx2 CAMERA_DEPTH.exr OUT.exr [--beta adaptive|B] [--hlsl]
 //   msmcl-vulkan compare A.exr B.exr [--channel Y] [--diff-png D.png] [--diff-scale S]
@@ -264,6 +264,9 @@ struct SoftArguments {
     std::string min_filter = "1";
     std::string depth_bias = "1e-3";
     std::string depth_range;
+    std::string receiver_weight = "0.1";
+    int filter_parts = 2;
+    bool published = false;
 };
 
 struct SoftPush {
@@ -272,6 +275,8 @@ struct SoftPush {
     std::int32_t search_size;
     float light_size, min_filter_size, max_filter_size, depth_bias;
     std::uint32_t zero_one;
+    float receiver_weight;
+    std::int32_t filter_parts;
 };
 
 void run_soft(VulkanCompute& vulkan, const Language& language, const SoftArguments& a) {
@@ -280,6 +285,8 @@ void run_soft(VulkanCompute& vulkan, const Language& language, const SoftArgumen
     options.search_size = a.search_size;
     options.min_filter_size = float_option("--min-filter", a.min_filter);
     options.depth_bias = float_option("--depth-bias", a.depth_bias);
+    options.receiver_blocker_weight = a.published ? 0.0f : float_option("--receiver-weight", a.receiver_weight);
+    options.filter_parts = a.published ? 1 : a.filter_parts;
     const std::optional<msmcl::DepthRange> range_option = depth_range_option(a.depth_range);
 
     const msmcl::io::GpuImage image = msmcl::io::read_ktx2(a.table);
@@ -321,7 +328,9 @@ void run_soft(VulkanCompute& vulkan, const Language& language, const SoftArgumen
                         options.min_filter_size,
                         limits.max_filter_size,
                         options.depth_bias,
-                        depth_range_of(image, range_option) == msmcl::DepthRange::zero_one ? 1u : 0u};
+                        depth_range_of(image, range_option) == msmcl::DepthRange::zero_one ? 1u : 0u,
+                        options.receiver_blocker_weight,
+                        options.filter_parts};
     static const std::vector<std::uint32_t> glsl = words(soft_glsl), hlsl = words(soft_hlsl);
     const std::vector<float> shadow =
         run_pass(vulkan, language.hlsl ? hlsl : glsl, language, bindings, VK_NULL_HANDLE, records.data(),
@@ -497,6 +506,11 @@ int main(int argc, char** argv) {
     soft_command->add_option("--search-size", soft.search_size, "blocker search side (0: floor(sqrt(N)))")
         ->capture_default_str();
     soft_command->add_option("--min-filter", soft.min_filter, "smallest filter side")->capture_default_str();
+    soft_command->add_option("--receiver-weight", soft.receiver_weight, "as msmcl soft (0 = published)")
+        ->capture_default_str();
+    soft_command->add_option("--filter-parts", soft.filter_parts, "as msmcl soft (1 = published)")
+        ->capture_default_str();
+    soft_command->add_flag("--published", soft.published, "as msmcl soft: --receiver-weight 0 --filter-parts 1");
     soft_command->add_option("--depth-bias", soft.depth_bias, "subtracted from the internal depth")
         ->capture_default_str();
     soft_command->add_option("--depth-range", soft.depth_range, "0,1 or -1,1 (default: the table's)");

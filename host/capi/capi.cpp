@@ -11,6 +11,7 @@
 #include <msmcl/shade.hpp>
 #include <msmcl/version.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -139,6 +140,21 @@ msmcl::ShadeOptions to_shade_options(const msmcl_shade_options* options, const c
     result.depth_range = to_depth_range(c.depth_range, call);
     result.frame = c.frame;
     result.screen_width = c.screen_width;
+    return result;
+}
+
+msmcl::SoftShadowOptions to_soft_options(const msmcl_soft_options* options, const char* call) {
+    msmcl_soft_options c;
+    msmcl_soft_options_init(&c);
+    if (options) c = *options;
+    msmcl::SoftShadowOptions result;
+    result.light_size = c.light_size;
+    result.search_size = c.search_size;
+    result.min_filter_size = c.min_filter_size;
+    result.depth_bias = c.depth_bias;
+    result.depth_range = to_depth_range(c.depth_range, call);
+    result.receiver_blocker_weight = c.receiver_blocker_weight;
+    result.filter_parts = c.filter_parts;
     return result;
 }
 
@@ -325,6 +341,22 @@ void filter_device(msmcl_context* context, const msmcl_device_depth* depth, cons
         msmcl::filter_to_image(context->context, in_image(), texture, filter_options, plumbing);
 }
 
+// Host receivers of msmcl_shade* and msmcl_soft_shade: u, v, z and the output checked
+// (non-NULL) when there is any receiver.
+msmcl::Receivers to_receivers(const float* u, const float* v, const float* z, std::size_t count,
+                              const float* intensity, const char* call) {
+    msmcl::Receivers receivers;
+    if (count == 0) return receivers;
+    require(u, call, "u");
+    require(v, call, "v");
+    require(z, call, "z");
+    require(intensity, call, "intensity");
+    receivers.u.assign(u, u + count);
+    receivers.v.assign(v, v + count);
+    receivers.z.assign(z, z + count);
+    return receivers;
+}
+
 // msmcl_shade and msmcl_shade_with_pixels.
 void shade_host(msmcl_context* context, const msmcl_format& format, int width, int height, const void* texture,
                 std::size_t texture_bytes, const float* u, const float* v, const float* z, const uint32_t* pixel_x,
@@ -347,20 +379,11 @@ void shade_host(msmcl_context* context, const msmcl_format& format, int width, i
                                msmcl::format_name(map.format) + " texture needs " + std::to_string(needed)};
     map.words.resize(needed / sizeof(std::uint32_t));
     std::memcpy(map.words.data(), texture, needed);
-    msmcl::Receivers receivers;
+    const msmcl::Receivers receivers = to_receivers(u, v, z, count, intensity, call);
     msmcl::ReceiverPixels pixels;
-    if (count > 0) {
-        require(u, call, "u");
-        require(v, call, "v");
-        require(z, call, "z");
-        require(intensity, call, "intensity");
-        receivers.u.assign(u, u + count);
-        receivers.v.assign(v, v + count);
-        receivers.z.assign(z, z + count);
-        if (pixel_x) {
-            pixels.x.assign(pixel_x, pixel_x + count);
-            pixels.y.assign(pixel_y, pixel_y + count);
-        }
+    if (count > 0 && pixel_x) {
+        pixels.x.assign(pixel_x, pixel_x + count);
+        pixels.y.assign(pixel_y, pixel_y + count);
     }
     const std::vector<float> result = msmcl::shade(context->context, map, receivers, pixels, shade_options);
     if (count > 0) std::memcpy(intensity, result.data(), count * sizeof(float));
@@ -692,6 +715,39 @@ msmcl_status msmcl_build_sat_layered_device(msmcl_context* context, const msmcl_
                                             const msmcl_sat_options* options, const msmcl_enqueue* enqueue) {
     return guarded(
         [&] { build_sat_device(context, depth, layers, table, options, enqueue, "msmcl_build_sat_layered_device"); });
+}
+
+void msmcl_soft_options_init(msmcl_soft_options* options) {
+    if (!options) return;
+    const msmcl::SoftShadowOptions defaults;
+    options->light_size = defaults.light_size;
+    options->search_size = defaults.search_size;
+    options->min_filter_size = defaults.min_filter_size;
+    options->depth_bias = defaults.depth_bias;
+    options->depth_range = static_cast<msmcl_depth_range>(defaults.depth_range);
+    options->receiver_blocker_weight = defaults.receiver_blocker_weight;
+    options->filter_parts = defaults.filter_parts;
+}
+
+msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t* table, int width, int height,
+                              uint32_t max_kernel_texels, const float* u, const float* v, const float* z, size_t count,
+                              const msmcl_soft_options* options, float* intensity) {
+    return guarded([&] {
+        const char* call = "msmcl_soft_shade";
+        require(context, call, "context");
+        require(table, call, "table");
+        const msmcl::SoftShadowOptions soft_options = to_soft_options(options, call);
+        // The table: its words copied, its scale the one of N (the library checks N).
+        msmcl::SatTable sat;
+        sat.width = width;
+        sat.height = height;
+        sat.max_kernel_texels = max_kernel_texels;
+        sat.scale = msmcl::sat_scale(max_kernel_texels);
+        sat.words.assign(table, table + 4 * texel_count(width, height, call));
+        const msmcl::Receivers receivers = to_receivers(u, v, z, count, intensity, call);
+        const std::vector<float> result = msmcl::soft_shade(context->context, sat, receivers, soft_options);
+        std::copy(result.begin(), result.end(), intensity);
+    });
 }
 
 msmcl_status msmcl_filter_array(msmcl_context* context, const float* depth, int width, int height, int samples,

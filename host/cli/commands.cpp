@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "cli/batch.hpp"
 #include "cli/option_values.hpp"
 #include "cli/stages.hpp"
 #include "cli/texture_files.hpp"
@@ -130,48 +131,57 @@ DeviceSelection GlobalArguments::selection() const {
     return selection;
 }
 
-void run_filter(const GlobalArguments& global, const FilterArguments& arguments) {
+namespace {
+
+/// One file of `msmcl filter`: the command line's options, overridden by the manifest's.
+MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     // Check the option values before touching any file.
-    const std::optional<Format> format = parse_format(arguments.format);
+    const std::string format_text = entry_option(entry, "format", arguments.format);
+    if (format_text.empty()) throw usage_error("--format is required");
+    const std::optional<Format> format = parse_format(format_text);
     if (!format)
-        throw usage_error("unknown --format '" + arguments.format + "' (expected moments128, msm64, nlq64 or nlq32)");
-    const float sigma = parse_finite_float("--sigma", arguments.sigma);
-    if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + arguments.sigma + "'");
-    const DepthRange range = parse_depth_range_option(arguments.depth_range);
-    const Container container = output_container(arguments.out_container, arguments.output);
-    const std::optional<FilterKernel> kernel = parse_filter_kernel(arguments.kernel);
+        throw usage_error("unknown --format '" + format_text + "' (expected moments128, msm64, nlq64 or nlq32)");
+    const std::string sigma_text = entry_option(entry, "sigma", arguments.sigma);
+    const float sigma = parse_finite_float("--sigma", sigma_text);
+    if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + sigma_text + "'");
+    const DepthRange range = parse_depth_range_option(entry_option(entry, "depth-range", arguments.depth_range));
+    const Container container =
+        output_container(entry_option(entry, "out-container", arguments.out_container), entry.output);
+    const std::string kernel_text = entry_option(entry, "kernel", arguments.kernel);
+    const std::optional<FilterKernel> kernel = parse_filter_kernel(kernel_text);
     if (!kernel)
-        throw usage_error("unknown --kernel '" + arguments.kernel +
+        throw usage_error("unknown --kernel '" + kernel_text +
                           "' (expected automatic, fused_paper, fused_cpu or three_pass)");
 
-    Stages stages(global.verbose, global.verbose ? 7 : 4);
-
-    // Read and validate the depth map and its translucent layers (layer<k>.Z, layer<k>.A).
-    const io::TranslucentDepth layered =
-        stages.run("read", [&] { return io::read_translucent_depth_exr(arguments.input, range); });
-    const DepthImage& depth = layered.depth;
-
-    // Filter on the device.
-    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     FilterOptions options;
     options.format = *format;
     options.sigma = sigma;
     options.depth_range = range;
     options.kernel = *kernel;
-    Texture texture;
-    try {
-        if (stages.verbose())
-            texture = filter_in_stages(stages, context, layered, options);
-        else
-            texture = stages.run("filter", [&] { return filter(context, depth, layered.layers, options); });
-    } catch (const input_error& e) {
-        rethrow_with_file(arguments.input, e);
-    }
+    // Filter on the device, then publish the texture with what it was made from (DDS has
+    // no place for the record).
+    return map_job(
+        entry, range, "filter",
+        [options](Context& context, const io::TranslucentDepth& layered) {
+            return filter(context, layered.depth, layered.layers, options);
+        },
+        [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
+            return filter_in_stages(stages, context, layered, options);
+        },
+        [options, container, output = entry.output](const Texture& texture, int samples) {
+            write_texture_file(output, container, texture, io::TextureInfo{options.sigma, samples, options.depth_range});
+        });
+}
 
-    // Publish the texture with what it was made from (DDS has no place for the record).
-    stages.run("write", [&] {
-        write_texture_file(arguments.output, container, texture, io::TextureInfo{sigma, depth.samples, range});
-    });
+} // namespace
+
+int run_filter(const GlobalArguments& global, const FilterArguments& arguments, const BatchArguments& batch) {
+    MapCommand command;
+    command.name = "filter";
+    command.manifest_keys = {"format", "sigma", "depth-range", "kernel", "out-container"};
+    command.out_container = arguments.out_container;
+    command.make_job = [&](const BatchEntry& entry) { return filter_job(arguments, entry); };
+    return run_map_command(global, batch, command);
 }
 
 void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {

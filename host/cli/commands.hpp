@@ -15,10 +15,9 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// The options of `msmcl filter` (its files: BatchArguments, host/cli/batch.hpp).
 struct FilterArguments {
-    std::string input;
-    std::string output;
-    std::string format;
+    std::string format; ///< required (on the command line, or per file in a manifest)
     std::string sigma = "2.4";
     std::string depth_range = "0,1";
     std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension (.ktx2, .dds, else exr)
@@ -43,7 +42,9 @@ struct GlobalArguments {
     DeviceSelection selection() const;
 };
 
-void run_filter(const GlobalArguments& global, const FilterArguments& arguments);
+struct BatchArguments;
+/// One file or a batch; returns the exit code (host/cli/batch.hpp).
+int run_filter(const GlobalArguments& global, const FilterArguments& arguments, const BatchArguments& batch);
 void run_shade(const GlobalArguments& global, const ShadeArguments& arguments);
 /// Prints one line per device to stdout and marks the one a Context would pick.
 void run_devices(const GlobalArguments& global);

@@ -1,6 +1,7 @@
 // msmcl: filter depth maps into moment shadow maps and shade receivers with them.
 // Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
 // Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>".
+#include "cli/batch.hpp"
 #include "cli/commands.hpp"
 #include "cli/info_command.hpp"
 #include "cli/sat_commands.hpp"
@@ -63,7 +64,8 @@ int main(int argc, char** argv) {
     msmcl::cli::GlobalArguments global;
     app.add_option("--device", global.device,
                    "OpenCL device: gpu, cpu, an index, P:D (platform:device) or a name substring; "
-                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error")
+                   "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error; "
+                   "all: a batch of filter or sat spreads its files over every device")
         ->type_name("DEVICE");
     app.add_flag("--verbose", global.verbose,
                  "print a timing line per stage on stderr (read, device setup, program build or cache hit, "
@@ -71,13 +73,16 @@ int main(int argc, char** argv) {
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--kernel K]
     //              [--out-container C]
+    // msmcl filter IN.exr... -o DIR | --list FILE [--shard I/N] [--json FILE|-] (same options)
     msmcl::cli::FilterArguments filter;
     CLI::App* filter_command =
         app.add_subcommand("filter", "Depth map (EXR, Z or sample<N>.Z) -> filtered moment shadow map (EXR, KTX2 or DDS)");
-    filter_command->add_option("input", filter.input, "depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A)")
-        ->required();
-    filter_command->add_option("output", filter.output, "texture to write (EXR; .ktx2 or .dds: KTX2 or DDS)")->required();
-    filter_command->add_option("--format", filter.format, "moments128, msm64, nlq64 or nlq32")->required()->type_name("FORMAT");
+    // IN OUT: a depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A) and the
+    // texture to write (EXR; .ktx2 or .dds: KTX2 or DDS); or a batch: IN... -o DIR, --list FILE.
+    msmcl::cli::BatchArguments filter_batch;
+    msmcl::cli::add_batch_options(*filter_command, filter_batch);
+    filter_command->add_option("--format", filter.format, "moments128, msm64, nlq64 or nlq32 (required)")
+        ->type_name("FORMAT");
     filter_command->add_option("--sigma", filter.sigma, "Gaussian sigma in texels, >= 0 (0 = no blur)")
         ->capture_default_str()
         ->type_name("FLOAT");
@@ -151,12 +156,16 @@ int main(int argc, char** argv) {
 
     // Run the chosen subcommand and map failures to exit codes.
     try {
-        if (filter_command->parsed()) msmcl::cli::run_filter(global, filter);
+        // --device all spreads a batch's files: the other commands have one device.
+        if (global.device == "all" && !filter_command->parsed() && !sat_commands.sat_command->parsed())
+            throw msmcl::cli::usage_error("--device all spreads the files of a batch: only filter and sat take it");
+        // filter and sat report a batch's failures per file and return its exit code.
+        if (filter_command->parsed()) return msmcl::cli::run_filter(global, filter, filter_batch);
         else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
         else if (devices_command->parsed()) msmcl::cli::run_devices(global);
         else if (info.command->parsed()) msmcl::cli::run_info(info);
         else if (scatter.command->parsed()) msmcl::cli::run_scatter(global, scatter);
-        else msmcl::cli::run_sat_commands(global, sat_commands);
+        else return msmcl::cli::run_sat_commands(global, sat_commands);
         return 0;
     } catch (const msmcl::cli::usage_error& e) {
         return report(e.what(), exit_bad_input);

@@ -1,4 +1,5 @@
 #include "cli/sat_commands.hpp"
+#include "cli/batch.hpp"
 #include "cli/option_values.hpp"
 #include "cli/stages.hpp"
 #include "cli/texture_files.hpp"
@@ -24,11 +25,21 @@ namespace {
     throw input_error(path + ": " + e.what());
 }
 
-/// build_sat() split into the stages --verbose reports after "program": the upload, the
-/// kernels, the download. Same words as build_sat(context, depth, layers, options).
+/// build_sat() split into the stages --verbose reports: the program (built or found by a
+/// table of a 1x1 map), the upload, the kernels, the download. Same words as
+/// build_sat(context, depth, layers, options).
 SatTable build_sat_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
                              const SatOptions& options) {
     const DepthImage& depth = layered.depth;
+    stages.run("program", [&] {
+        // A table of a 1x1 map of the same kind builds (or finds) the programs.
+        const std::size_t built = context.programs_built();
+        const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
+        const DepthImage tiny{1, 1, depth.samples, std::vector<float>(static_cast<std::size_t>(depth.samples), mid)};
+        build_sat(context, tiny, std::vector<TranslucentLayer>(layered.layers.size(), {tiny.depth, tiny.depth}), options);
+        const std::size_t now = context.programs_built() - built;
+        stages.note(now == 0 ? "cache hit" : std::to_string(now) + " programs built");
+    });
     const DeviceLayeredDepth device = upload_layered_depth(stages, context, layered);
     SatTable table;
     table.width = depth.width;
@@ -90,9 +101,8 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     SatArguments& sat = commands.sat;
     CLI::App* sat_command = app.add_subcommand(
         "sat", "Depth map (EXR) -> integer modular summed-area table of its moments (EXR, KTX2 or DDS)");
-    sat_command->add_option("input", sat.input, "depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A)")
-        ->required();
-    sat_command->add_option("output", sat.output, "table to write (.exr; .ktx2 or .dds: KTX2 or DDS)")->required();
+    // IN OUT (depth map EXR, table .exr, .ktx2 or .dds), or a batch: IN... -o DIR, --list FILE.
+    add_batch_options(*sat_command, commands.sat_batch);
     sat_command->add_option("--max-kernel", sat.max_kernel,
                             "N: texels of the largest rectangle ever queried (precision log2(2^32/N) bits)")
         ->capture_default_str()
@@ -138,66 +148,70 @@ void add_sat_commands(CLI::App& app, SatCommands& commands) {
     soft_command->add_option("--max-kernel", soft.max_kernel,
                              "N the table was built for (default: the table's; required for DDS tables)")
         ->type_name("N");
+    CLI::Option* receiver_weight = soft_command->add_option("--receiver-weight", soft.receiver_weight,
+                             "share of the receiver's own surface the blocker search counts as blockers at its "
+                             "depth, in [0, 1] (0 = published; docs/soft_shadows.md)")
+        ->capture_default_str()
+        ->type_name("K");
+    CLI::Option* filter_parts = soft_command->add_option("--filter-parts", soft.filter_parts,
+                             "filter square split into P x P parts, each its own 4MSM bound, P in [1, 4] "
+                             "(1 = published)")
+        ->capture_default_str()
+        ->type_name("P");
+    soft_command->add_flag("--published", soft.published,
+                           "the method of Peters et al., i3D 2016 as published: --receiver-weight 0 --filter-parts 1")
+        ->excludes(receiver_weight)
+        ->excludes(filter_parts);
     commands.soft_command = soft_command;
 }
 
-bool run_sat_commands(const GlobalArguments& global, const SatCommands& commands) {
-    if (commands.sat_command && commands.sat_command->parsed()) {
-        run_sat(global, commands.sat);
-        return true;
-    }
-    if (commands.soft_command && commands.soft_command->parsed()) {
-        run_soft(global, commands.soft);
-        return true;
-    }
-    return false;
+int run_sat_commands(const GlobalArguments& global, const SatCommands& commands) {
+    if (commands.sat_command && commands.sat_command->parsed()) return run_sat(global, commands.sat, commands.sat_batch);
+    if (commands.soft_command && commands.soft_command->parsed()) run_soft(global, commands.soft);
+    return 0;
 }
 
-void run_sat(const GlobalArguments& global, const SatArguments& arguments) {
+namespace {
+
+/// One file of `msmcl sat`: the command line's options, overridden by the manifest's.
+MapJob sat_job(const SatArguments& arguments, const BatchEntry& entry) {
     // Check the option values before touching any file.
     SatOptions options;
-    options.max_kernel_texels = static_cast<std::uint32_t>(
-        parse_integer("--max-kernel", arguments.max_kernel, sat_min_kernel_texels, sat_max_kernel_texels));
-    options.depth_range = parse_depth_range_option(arguments.depth_range);
-    const Container container = output_container(arguments.out_container, arguments.output);
-
-    Stages stages(global.verbose, global.verbose ? 7 : 4);
-    const std::optional<SatKernel> kernel = parse_sat_kernel(arguments.kernel);
+    options.max_kernel_texels = static_cast<std::uint32_t>(parse_integer(
+        "--max-kernel", entry_option(entry, "max-kernel", arguments.max_kernel), sat_min_kernel_texels,
+        sat_max_kernel_texels));
+    options.depth_range = parse_depth_range_option(entry_option(entry, "depth-range", arguments.depth_range));
+    const Container container =
+        output_container(entry_option(entry, "out-container", arguments.out_container), entry.output);
+    const std::string kernel_text = entry_option(entry, "kernel", arguments.kernel);
+    const std::optional<SatKernel> kernel = parse_sat_kernel(kernel_text);
     if (!kernel)
-        throw usage_error("unknown --kernel '" + arguments.kernel +
+        throw usage_error("unknown --kernel '" + kernel_text +
                           "' (expected automatic, tiled_gpu, tiled_cpu or row_per_thread)");
     options.kernel = *kernel;
-
-    // Read and validate the depth map (and its translucent layers), build the table on the device.
-    const io::TranslucentDepth layered =
-        stages.run("read", [&] { return io::read_translucent_depth_exr(arguments.input, options.depth_range); });
-    const DepthImage& depth = layered.depth;
-    Context context = stages.run("device setup", [&] { return Context(global.selection()); });
-    if (stages.verbose())
-        stages.run("program", [&] {
-            // A table of a 1x1 map of the same kind builds (or finds) the programs.
-            const std::size_t built = context.programs_built();
-            const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
-            const DepthImage tiny{1, 1, depth.samples, std::vector<float>(static_cast<std::size_t>(depth.samples), mid)};
-            build_sat(context, tiny, std::vector<TranslucentLayer>(layered.layers.size(), {tiny.depth, tiny.depth}),
-                      options);
-            const std::size_t now = context.programs_built() - built;
-            stages.note(now == 0 ? "cache hit" : std::to_string(now) + " programs built");
+    // Build the table on the device, then publish it with what a reader needs to query it.
+    return map_job(
+        entry, options.depth_range, "table build",
+        [options](Context& context, const io::TranslucentDepth& layered) {
+            return build_sat(context, layered.depth, layered.layers, options);
+        },
+        [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
+            return build_sat_in_stages(stages, context, layered, options);
+        },
+        [options, container, output = entry.output](const SatTable& table, int samples) {
+            write_sat_file(output, container, table, io::SatInfo{options.depth_range, samples});
         });
-    SatTable table;
-    try {
-        if (stages.verbose())
-            table = build_sat_in_stages(stages, context, layered, options);
-        else
-            table = stages.run("table build", [&] { return build_sat(context, depth, layered.layers, options); });
-    } catch (const input_error& e) {
-        rethrow_with_file(arguments.input, e);
-    }
+}
 
-    // Publish the table with what a reader needs to query it.
-    stages.run("write", [&] {
-        write_sat_file(arguments.output, container, table, io::SatInfo{options.depth_range, depth.samples});
-    });
+} // namespace
+
+int run_sat(const GlobalArguments& global, const SatArguments& arguments, const BatchArguments& batch) {
+    MapCommand command;
+    command.name = "sat";
+    command.manifest_keys = {"max-kernel", "depth-range", "kernel", "out-container"};
+    command.out_container = arguments.out_container;
+    command.make_job = [&](const BatchEntry& entry) { return sat_job(arguments, entry); };
+    return run_map_command(global, batch, command);
 }
 
 void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
@@ -210,6 +224,14 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     if (options.min_filter_size <= 0.0f)
         throw usage_error("--min-filter must be > 0, got '" + arguments.min_filter + "'");
     options.depth_bias = parse_finite_float("--depth-bias", arguments.depth_bias);
+    options.receiver_blocker_weight = parse_finite_float("--receiver-weight", arguments.receiver_weight);
+    if (options.receiver_blocker_weight < 0.0f || options.receiver_blocker_weight > 1.0f)
+        throw usage_error("--receiver-weight must be in [0, 1], got '" + arguments.receiver_weight + "'");
+    options.filter_parts = static_cast<int>(parse_integer("--filter-parts", arguments.filter_parts, 1, 4));
+    if (arguments.published) {
+        options.receiver_blocker_weight = 0.0f;
+        options.filter_parts = 1;
+    }
     std::optional<DepthRange> range;
     if (!arguments.depth_range.empty()) range = parse_depth_range_option(arguments.depth_range);
     std::optional<std::uint32_t> max_kernel;

@@ -7,6 +7,7 @@
 // read and outputs written through msmcl::io (atomic writes), errors map to exit codes 2/1.
 #pragma once
 
+#include "cli/batch.hpp"
 #include "cli/commands.hpp"
 
 #include <CLI/CLI.hpp>
@@ -15,9 +16,8 @@
 
 namespace msmcl::cli {
 
+/// The options of `msmcl sat` (its files: BatchArguments, host/cli/batch.hpp).
 struct SatArguments {
-    std::string input;
-    std::string output;
     std::string max_kernel = "729";
     std::string depth_range = "0,1";
     std::string kernel = "automatic"; ///< automatic, tiled_gpu, tiled_cpu or row_per_thread
@@ -34,11 +34,15 @@ struct SoftArguments {
     std::string depth_bias = "1e-3";
     std::string depth_range; ///< empty: the table's msmcl:depthRange
     std::string max_kernel;  ///< empty: the table's; required for DDS tables
+    std::string receiver_weight = "0.1";
+    std::string filter_parts = "2";
+    bool published = false; ///< the method as published: receiver weight 0, one filter part
 };
 
 /// The two subcommands and what they parsed.
 struct SatCommands {
     SatArguments sat;
+    BatchArguments sat_batch;
     SoftArguments soft;
     CLI::App* sat_command = nullptr;
     CLI::App* soft_command = nullptr;
@@ -47,10 +51,11 @@ struct SatCommands {
 /// Adds `sat` and `soft` to the application.
 void add_sat_commands(CLI::App& app, SatCommands& commands);
 
-/// Runs whichever of the two was parsed; false if neither was.
-bool run_sat_commands(const GlobalArguments& global, const SatCommands& commands);
+/// Runs whichever of the two was parsed; returns the exit code.
+int run_sat_commands(const GlobalArguments& global, const SatCommands& commands);
 
-void run_sat(const GlobalArguments& global, const SatArguments& arguments);
+/// One file or a batch; returns the exit code (host/cli/batch.hpp).
+int run_sat(const GlobalArguments& global, const SatArguments& arguments, const BatchArguments& batch);
 void run_soft(const GlobalArguments& global, const SoftArguments& arguments);
 
 } // namespace msmcl::cli

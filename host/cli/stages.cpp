@@ -2,10 +2,10 @@
 
 #include <msmcl/errors.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <unistd.h>
 
 namespace msmcl::cli {
 namespace {
@@ -17,29 +17,11 @@ double milliseconds_since(std::chrono::steady_clock::time_point start) {
 } // namespace
 
 Stages::Stages(bool verbose, int planned) : verbose_(verbose), planned_(planned > 0 ? planned : 1) {
-    command_start_ = std::chrono::steady_clock::now();
-    // Progress only for a person watching a terminal; --verbose prints lines instead.
-    progress_ = !verbose_ && ::isatty(STDERR_FILENO) == 1;
-    // MSMCL_PROGRESS_AFTER_MS: how long work runs before the progress line appears (500).
-    if (const char* text = std::getenv("MSMCL_PROGRESS_AFTER_MS")) progress_after_ms_ = std::strtod(text, nullptr);
-    if (!progress_) return;
-    // A delay of 0 draws at once: the line then shows however short the command is.
-    if (progress_after_ms_ <= 0.0) draw_line();
-    painter_ = std::thread([this] { draw_progress(); });
+    // --verbose prints lines instead of the progress line.
+    progress_ = std::make_unique<ProgressLine>(!verbose_, [this](double elapsed_s) { return progress_text(elapsed_s); });
 }
 
-Stages::~Stages() {
-    if (!progress_) return;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stop_ = true;
-    }
-    wake_.notify_all();
-    painter_.join();
-    // Erase the progress line so that what follows starts on a clean line.
-    if (drawn_) std::fprintf(stderr, "\r\033[K");
-    std::fflush(stderr);
-}
+Stages::~Stages() = default;
 
 void Stages::begin(const std::string& name) {
     note_.clear();
@@ -62,28 +44,13 @@ void Stages::end() {
     }
 }
 
-void Stages::draw_progress() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (!stop_) {
-        wake_.wait_for(lock, std::chrono::milliseconds(100));
-        if (stop_) break;
-        // Long work only: nothing for commands that finish within the delay.
-        const double elapsed = milliseconds_since(command_start_);
-        if (elapsed < progress_after_ms_) continue;
-        draw_line();
-    }
-}
-
-void Stages::draw_line() {
-    const double elapsed = milliseconds_since(command_start_);
-    const int width = 20;
-    const int filled = std::min(width, done_ * width / planned_);
-    std::string bar(static_cast<std::size_t>(filled), '#');
-    bar.resize(width, '.');
-    std::fprintf(stderr, "\r\033[Kmsmcl: [%s] %d/%d %s %.1f s", bar.c_str(), std::min(done_ + 1, planned_), planned_,
-                 stage_.c_str(), elapsed / 1000.0);
-    std::fflush(stderr);
-    drawn_ = true;
+std::string Stages::progress_text(double elapsed_s) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    char text[256];
+    std::snprintf(text, sizeof text, "msmcl: %s %d/%d %s %.1f s",
+                  progress_bar(static_cast<std::size_t>(done_), static_cast<std::size_t>(planned_)).c_str(),
+                  std::min(done_ + 1, planned_), planned_, stage_.c_str(), elapsed_s);
+    return text;
 }
 
 DeviceBuffer::DeviceBuffer(Context& context, std::size_t bytes, const void* data) : bytes_(bytes) {

@@ -6,18 +6,17 @@
 // The library never prints: the stages are timed here, around its calls.
 #pragma once
 
+#include "cli/progress.hpp"
 #include "io/exr_io.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/types.hpp>
 
 #include <chrono>
-#include <condition_variable>
 #include <cstddef>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace msmcl::cli {
@@ -51,25 +50,19 @@ public:
 private:
     void begin(const std::string& name);
     void end();
-    void draw_progress();
-    /// Draws the progress line (the painter holds mutex_, or no painter runs yet).
-    void draw_line();
+    /// The progress line's text: the bar over the planned stages, the current one, the time.
+    std::string progress_text(double elapsed_s);
 
     bool verbose_ = false;
-    bool progress_ = false;
     int planned_ = 1;
     int done_ = 0;
-    double progress_after_ms_ = 500.0;
     std::string note_;
-    std::chrono::steady_clock::time_point command_start_, stage_start_;
+    std::chrono::steady_clock::time_point stage_start_;
 
-    // The progress line, drawn by a thread while a stage runs.
+    // What the progress line shows, read by its drawing thread.
     std::mutex mutex_;
-    std::condition_variable wake_;
-    bool stop_ = false;
-    bool drawn_ = false;
     std::string stage_;
-    std::thread painter_;
+    std::unique_ptr<ProgressLine> progress_;
 };
 
 /// A device buffer of the CLI's staged uploads, released on destruction.

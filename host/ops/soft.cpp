@@ -49,8 +49,10 @@ void validate_host_table(const SatTable& table) {
 msm_sat_soft_params device_params(int width, int height, std::uint32_t max_kernel_texels,
                                   const SoftShadowOptions& options) {
     const SoftShadowLimits limits = soft_shadow_limits(max_kernel_texels, options);
-    return msm_sat_soft_params_make(width, height, msm_sat_scale(max_kernel_texels), limits.search_size,
-                                    options.light_size, options.min_filter_size, limits.max_filter_size);
+    return msm_sat_soft_params_refine(msm_sat_soft_params_make(width, height, msm_sat_scale(max_kernel_texels),
+                                                               limits.search_size, options.light_size,
+                                                               options.min_filter_size, limits.max_filter_size),
+                                      options.receiver_blocker_weight, options.filter_parts);
 }
 
 } // namespace
@@ -78,6 +80,13 @@ SoftShadowLimits soft_shadow_limits(std::uint32_t max_kernel_texels, const SoftS
         options.min_filter_size > static_cast<float>(side))
         throw input_error("soft: the smallest filter side must be in (0, " + std::to_string(side) + "], got " +
                           std::to_string(options.min_filter_size));
+    if (!std::isfinite(options.receiver_blocker_weight) || options.receiver_blocker_weight < 0.0f ||
+        options.receiver_blocker_weight > 1.0f)
+        throw input_error("soft: the receiver's blocker weight must be in [0, 1], got " +
+                          std::to_string(options.receiver_blocker_weight));
+    if (options.filter_parts < 1 || options.filter_parts > 4)
+        throw input_error("soft: the filter parts per side must be in [1, 4], got " +
+                          std::to_string(options.filter_parts));
     SoftShadowLimits limits;
     limits.search_size = options.search_size == 0 ? side : options.search_size;
     limits.max_filter_size = static_cast<float>(side);
@@ -109,10 +118,12 @@ void soft_shade(Context& context, const DeviceSat& table, cl_mem receivers_uvz, 
     detail::set_arg(kernel, 5, p.light_size);
     detail::set_arg(kernel, 6, p.min_filter_size);
     detail::set_arg(kernel, 7, p.max_filter_size);
-    detail::set_arg(kernel, 8, receivers_uvz);
-    detail::set_arg(kernel, 9, static_cast<cl_uint>(count));
-    detail::set_arg(kernel, 10, options.depth_bias);
-    detail::set_arg(kernel, 11, intensity);
+    detail::set_arg(kernel, 8, p.receiver_weight);
+    detail::set_arg(kernel, 9, static_cast<cl_int>(p.filter_parts));
+    detail::set_arg(kernel, 10, receivers_uvz);
+    detail::set_arg(kernel, 11, static_cast<cl_uint>(count));
+    detail::set_arg(kernel, 12, options.depth_bias);
+    detail::set_arg(kernel, 13, intensity);
     // One work-item per receiver; groups of 64.
     const std::size_t group = 64;
     detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((count + group - 1) / group * group),

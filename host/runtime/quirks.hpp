@@ -39,6 +39,8 @@ inline bool is_oclgrind(const DeviceInfo& device) { return device.name == "Oclgr
 ///  - shade.cl at `-cl-opt-disable`: LLVM's DivRemPairs pass turns the dithered lookup's
 ///    `i / width` and `i % width` into a `freeze`, an instruction the uninitialized-value
 ///    checker refuses (fatal error); unoptimized code has none.
+///    The soft-shadow kernel's filter parts (kernels/msm_sat.clh) avoid the pair altogether:
+///    nested loops over the parts' rows and columns instead of one loop with / and %.
 inline std::string device_build_options(const DeviceInfo& device, const std::string& program) {
     if (is_pocl(device)) return "-w";
     if (is_oclgrind(device)) {

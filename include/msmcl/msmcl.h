@@ -342,6 +342,28 @@ MSMCL_C_API msmcl_status msmcl_build_sat_layered_device(msmcl_context* context, 
                                                         const msmcl_sat_options* options,
                                                         const msmcl_enqueue* enqueue);
 
+/* Moment soft shadows of a directional light from a table (include/msmcl/sat.hpp,
+ * SoftShadowOptions; docs/soft_shadows.md). */
+typedef struct msmcl_soft_options {
+    float light_size;              /* penumbra texels per unit of internal depth; default 64 */
+    int search_size;               /* blocker search side, K^2 <= N; 0 = floor(sqrt(N)); default 0 */
+    float min_filter_size;         /* smallest filter side in texels; default 1 */
+    float depth_bias;              /* subtracted from the receiver's internal depth; default 1e-3 */
+    msmcl_depth_range depth_range; /* convention of the receivers' z; default zero_one */
+    /* The refinements of docs/soft_shadows.md; 0 and 1 give the method as published. */
+    float receiver_blocker_weight; /* in [0, 1]; default 0.1 */
+    int filter_parts;              /* filter square split into P x P parts, P in [1, 4]; default 2 */
+} msmcl_soft_options;
+
+MSMCL_C_API void msmcl_soft_options_init(msmcl_soft_options* options);
+
+/* Host table (4 * width * height uint32, as msmcl_build_sat writes it for N =
+ * max_kernel_texels) and receivers in, host intensities out (count floats; 0 lit, 1
+ * shadowed). u, v in texels, z as rendered. `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t* table, int width, int height,
+                                          uint32_t max_kernel_texels, const float* u, const float* v, const float* z,
+                                          size_t count, const msmcl_soft_options* options, float* intensity);
+
 /* ---- Texture arrays: `layers` maps of one size in one call (the cascades of a cascaded
  * shadow map, the maps of several lights; docs/formats.md, "Texture arrays"). Every
  * buffer holds layer after layer, each laid out as for one map; the result equals

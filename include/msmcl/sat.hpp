@@ -120,6 +120,16 @@ struct SoftShadowOptions {
     float depth_bias = 1e-3f;
     /// Convention of the receivers' z.
     DepthRange depth_range = DepthRange::zero_one;
+    /// Refinements of the published method that leak less light than it against brute-force
+    /// PCSS (docs/soft_shadows.md); receiver_blocker_weight = 0 and filter_parts = 1 give
+    /// the method of Peters et al., i3D 2016, section 3.
+    /// Share k of the receiver's own reconstructed point (weight w0 at zf) that the average
+    /// blocker depth counts as blockers at zf: ((eps + k w0) zf + sum w_i z_i) / (eps + k w0
+    /// + sum w_i). In [0, 1]; free.
+    float receiver_blocker_weight = 0.1f;
+    /// The filter square split into filter_parts x filter_parts equal parts, each with its
+    /// own 4MSM bound, averaged by area. In [1, 4]; costs a query and a 4MSM bound per part.
+    int filter_parts = 2;
 };
 
 /// The blocker search side and the largest filter side (floor(sqrt(N))) the options give

@@ -17,11 +17,12 @@ double overlap(int i, double low, double high) {
     return std::max(0.0, std::min(high, i + 1.0) - std::max(low, double(i)));
 }
 
+Moments bias_float(const Moments& b, double alpha) { return bias(b, alpha, bstar_float); }
+
+} // namespace
+
 // Texel-aligned K x K search square around (u, v), clipped: odd K centred on the texel of
 // (u, v), even K on the texel corner nearest to it.
-struct TexelSquare {
-    int x0, y0, x1, y1;
-};
 TexelSquare search_square(int width, int height, double u, double v, int k) {
     const int start_x = static_cast<int>(std::floor(u + 0.5 - 0.5 * k));
     const int start_y = static_cast<int>(std::floor(v + 0.5 - 0.5 * k));
@@ -32,10 +33,6 @@ TexelSquare search_square(int width, int height, double u, double v, int k) {
 double filter_side(const SoftParams& p, double zf, double blocker_depth) {
     return std::clamp(p.light_size * std::max(zf - blocker_depth, 0.0), p.min_filter_size, p.max_filter_size);
 }
-
-Moments bias_float(const Moments& b, double alpha) { return bias(b, alpha, bstar_float); }
-
-} // namespace
 
 std::uint32_t sat_scale(std::uint64_t max_kernel_texels) {
     return static_cast<std::uint32_t>(4294967295ull / max_kernel_texels);

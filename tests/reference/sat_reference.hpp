@@ -68,6 +68,16 @@ struct SoftParams {
     double umbra_eps = 0.01;
 };
 
+/// Texel-aligned K x K blocker search square around (u, v), clipped to the map: odd K
+/// centred on the texel of (u, v), even K on the texel corner nearest to it. Inclusive.
+struct TexelSquare {
+    int x0, y0, x1, y1;
+};
+TexelSquare search_square(int width, int height, double u, double v, int k);
+
+/// Filter side light_size * (zf - blocker_depth), clamped to [min, max] filter size.
+double filter_side(const SoftParams& params, double zf, double blocker_depth);
+
 /// What a soft shadow evaluation found, for diagnostics.
 struct SoftResult {
     double shadow = 0;

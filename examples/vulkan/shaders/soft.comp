@@ -29,6 +29,8 @@ layout(push_constant) uniform Params {
     float max_filter_size; // floor(sqrt(N))
     float depth_bias;
     uint zero_one;
+    float receiver_weight; // SoftShadowOptions::receiver_blocker_weight
+    int filter_parts;      // SoftShadowOptions::filter_parts
 } params;
 
 void main() {
@@ -43,6 +45,8 @@ void main() {
     p.light_size = params.light_size;
     p.min_filter_size = params.min_filter_size;
     p.max_filter_size = params.max_filter_size;
+    p.receiver_weight = params.receiver_weight;
+    p.filter_parts = params.filter_parts;
     float zf = msm_internal_depth(r.z, params.zero_one != 0u) - params.depth_bias;
     shadow[i] = msm_sat_soft_shadow(sat_table, p, r.u, r.v, zf);
 }

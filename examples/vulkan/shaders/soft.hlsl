@@ -24,6 +24,8 @@ struct Params {
     float max_filter_size;
     float depth_bias;
     uint zero_one;
+    float receiver_weight; // SoftShadowOptions::receiver_blocker_weight
+    int filter_parts;      // SoftShadowOptions::filter_parts
 };
 [[vk::push_constant]] ConstantBuffer<Params> params;
 
@@ -40,6 +42,8 @@ void main(uint3 id : SV_DispatchThreadID) {
     p.light_size = params.light_size;
     p.min_filter_size = params.min_filter_size;
     p.max_filter_size = params.max_filter_size;
+    p.receiver_weight = params.receiver_weight;
+    p.filter_parts = params.filter_parts;
     float zf = msm_internal_depth(r.z, params.zero_one != 0u) - params.depth_bias;
     shadow[i] = msm_sat_soft_shadow(sat_table, p, r.u, r.v, zf);
 }
