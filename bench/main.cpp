@@ -60,7 +60,9 @@ nlohmann::json make_row(const CaseResult& result, const Workload& work, const st
     row["bytes"] = result.bytes;
     const double seconds = median(result.ms) * 1e-3;
     if (result.has_throughput && seconds > 0.0) {
-        row["mtexels_per_s"] = double(work.texels()) / seconds * 1e-6;
+        // Rows of several maps (texture arrays) say how many in "layers".
+        const double maps = result.extra.contains("layers") ? result.extra["layers"].get<double>() : 1.0;
+        row["mtexels_per_s"] = double(work.texels()) * maps / seconds * 1e-6;
         row["gb_per_s"] = double(result.bytes) / seconds * 1e-9;
     } else {
         row["mtexels_per_s"] = nullptr;
@@ -70,7 +72,8 @@ nlohmann::json make_row(const CaseResult& result, const Workload& work, const st
     return row;
 }
 
-// Fraction of the copy roof: copy's median time over the case's (same bytes).
+// Fraction of the copy roof: copy's median time, scaled to the case's bytes (several maps
+// per row move a multiple of copy's), over the case's.
 void add_roof_fractions(std::vector<nlohmann::json>& rows) {
     for (nlohmann::json& row : rows) {
         row["copy_roof_fraction"] = nullptr;
@@ -78,7 +81,9 @@ void add_roof_fractions(std::vector<nlohmann::json>& rows) {
         for (const nlohmann::json& copy : rows)
             if (copy["case"] == "copy" && copy["size"] == row["size"] && copy["samples"] == row["samples"] &&
                 copy["format"] == row["format"])
-                row["copy_roof_fraction"] = copy["ms_median"].get<double>() / row["ms_median"].get<double>();
+                row["copy_roof_fraction"] = copy["ms_median"].get<double>() *
+                                            (row["bytes"].get<double>() / copy["bytes"].get<double>()) /
+                                            row["ms_median"].get<double>();
     }
 }
 

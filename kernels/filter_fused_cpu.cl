@@ -68,6 +68,7 @@ static inline float cpu_expf(float x) {
 #define exp(x) cpu_expf(x)
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
+#include "msm_array.clh"
 
 // Translucent layers (MSM_LAYERS > 0, docs/math.md): the resolve composites each sample's
 // surfaces (msm_translucent.clh) instead of taking b(z), and the kernels take the layers'
@@ -562,6 +563,21 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
 #define CPU_SHIFT_PHASES(BORDER)
 #endif
 
+// Texture arrays (MSM_ARRAY 1, msm_array.clh): the group's layer of the depth, the texture,
+// the translucent layers and the row counters (one per group of each layer).
+#if MSM_LAYERS
+#define CPU_ARRAY_LAYER_SLICES                                                                            \
+    MSM_ARRAY_SLICE(layer_depth, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);                      \
+    MSM_ARRAY_SLICE(layer_opacity, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+#else
+#define CPU_ARRAY_LAYER_SLICES
+#endif
+#define CPU_ARRAY_SLICES                                                                                  \
+    MSM_ARRAY_SLICE(depth, (size_t)width * height * MSM_SAMPLES);                                         \
+    MSM_ARRAY_SLICE(texture, (size_t)width * height * CPU_WORDS);                                         \
+    MSM_ARRAY_SLICE(progress, get_num_groups(0) * get_num_groups(1));                                     \
+    CPU_ARRAY_LAYER_SLICES
+
 // Both kernels. The current row lives in global memory (progress[group], scratch the host
 // provides) and every phase reads it anew: a loop counter would be kept per work-item by
 // PoCL (it does not see that it is uniform), a __local one the compiler forwards from
@@ -575,6 +591,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     __local float filtered[4 * CPU_IN_W];                                                                 \
     __local uint words[4 * CPU_IN_W];                                                                     \
     CPU_SHIFT_STORAGE                                                                                     \
+    CPU_ARRAY_SLICES                                                                                      \
     __global int* row = progress + get_group_id(1) * get_num_groups(0) + get_group_id(0);               \
     if (get_local_id(0) == 0) *row = 0;                                                                   \
     clear_row_padding(zero, resolved);                                                                    \

@@ -7,12 +7,14 @@
 // for the block shift of the nlq formats (20720 in all).
 // Compile-time: MSM_SAMPLES (1, 2, 4, 8, 16), MSM_FORMAT (0 moments128, 1 msm64, 2 nlq64,
 // 3 nlq32; the order of msmcl::Format), MSM_DEPTH_ZERO_ONE (1 for depth in [0,1]),
-// MSM_LAYERS (translucent layers, 0 = opaque; two more arguments when > 0).
+// MSM_LAYERS (translucent layers, 0 = opaque; two more arguments when > 0), MSM_ARRAY
+// (1: texture arrays, group z = array layer, msm_array.clh).
 // Taps: w0 (centre) .. w4, as gaussian_taps() gives them; sums run over i = -4..4 with fma
 // so that kernels/filter_three_pass.cl reproduces them bit for bit.
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
 #include "fused_layout.clh"
+#include "msm_array.clh"
 
 // Translucent layers (MSM_LAYERS > 0, docs/math.md): the resolve composites each sample's
 // surfaces (msm_translucent.clh) instead of taking b(z); 0 compiles the opaque code alone.
@@ -45,6 +47,13 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
     __local float block[FUSED_LOCAL_FLOATS];
 #if FILTER_SHIFTED
     __local float shift_extremes[FUSED_SHIFT_FLOATS];
+#endif
+    // Texture arrays: this group's layer of the depth, the texture and the translucent layers.
+    MSM_ARRAY_SLICE(depth, (size_t)width * height * MSM_SAMPLES);
+    MSM_ARRAY_SLICE(texture, (size_t)width * height * MSM_TEXEL_WORDS);
+#if MSM_LAYERS
+    MSM_ARRAY_SLICE(layer_depth, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+    MSM_ARRAY_SLICE(layer_opacity, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
 #endif
     const uint id = (uint)get_local_id(0);
     const int out_x0 = (int)get_group_id(0) * FUSED_OUT_W;

@@ -2,9 +2,11 @@
 // global memory. (a) resolve -> float4 moments, (b) horizontal 9-tap -> float4 moments,
 // (c) vertical 9-tap + bias + quantize -> texture. Unshifted moments (c = 0).
 // Same compile-time defines (MSM_LAYERS included), taps and float operations as
-// filter_fused_gpu.cl, so moments128 and msm64 agree with it bit for bit.
+// filter_fused_gpu.cl, so moments128 and msm64 agree with it bit for bit. MSM_ARRAY 1:
+// texture arrays, the third NDRange dimension is the array layer (msm_array.clh).
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
+#include "msm_array.clh"
 
 // Translucent layers (MSM_LAYERS > 0, docs/math.md): the resolve composites each sample's
 // surfaces (msm_translucent.clh) instead of taking b(z); 0 compiles the opaque code alone.
@@ -36,6 +38,12 @@ __kernel void filter_resolve(__global const float* depth, int width, int height,
                              , __global const float* layer_depth, __global const float* layer_opacity
 #endif
 ) {
+    MSM_ARRAY_SLICE_ANY_GROUP(depth, (size_t)width * height * MSM_SAMPLES);
+    MSM_ARRAY_SLICE_ANY_GROUP(moments, (size_t)width * height * 4);
+#if MSM_LAYERS
+    MSM_ARRAY_SLICE_ANY_GROUP(layer_depth, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+    MSM_ARRAY_SLICE_ANY_GROUP(layer_opacity, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+#endif
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
     if (x >= width || y >= height) return;
@@ -52,6 +60,8 @@ __kernel void filter_resolve(__global const float* depth, int width, int height,
 // (b) Horizontal 9-tap blur, clamp-to-edge.
 __kernel void filter_horizontal(__global const float* moments, int width, int height, __global float* blurred,
                                 float w0, float w1, float w2, float w3, float w4) {
+    MSM_ARRAY_SLICE_ANY_GROUP(moments, (size_t)width * height * 4);
+    MSM_ARRAY_SLICE_ANY_GROUP(blurred, (size_t)width * height * 4);
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
     if (x >= width || y >= height) return;
@@ -74,6 +84,8 @@ __kernel void filter_horizontal(__global const float* moments, int width, int he
 // Algorithm 2 in the unshifted frame, c = 0, bias held apart as in the fused kernels).
 __kernel void filter_vertical_quantize(__global const float* moments, int width, int height, __global uint* texture,
                                        float w0, float w1, float w2, float w3, float w4) {
+    MSM_ARRAY_SLICE_ANY_GROUP(moments, (size_t)width * height * 4);
+    MSM_ARRAY_SLICE_ANY_GROUP(texture, (size_t)width * height * MSM_TEXEL_WORDS);
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
     if (x >= width || y >= height) return;

@@ -18,8 +18,10 @@
 // sat_columns_per_thread.
 //
 // Compile-time: MSM_SAT_SOURCE 0 = depth map (MSM_SAMPLES, MSM_DEPTH_ZERO_ONE; moments
-// quantized with `scale`), 1 = ready integer texels (4 uints per texel); MSM_SAT_TILE.
+// quantized with `scale`), 1 = ready integer texels (4 uints per texel); MSM_SAT_TILE;
+// MSM_ARRAY (1: texture arrays, the NDRange's third dimension is the layer, msm_array.clh).
 #include "msm_sat.clh"
+#include "msm_array.clh"
 
 #ifndef MSM_SAT_TILE
 #define MSM_SAT_TILE 32
@@ -69,6 +71,11 @@ __kernel __attribute__((reqd_work_group_size(TILE, 1, 1)))
 void sat_tile_totals(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                      __global uint* column_totals, __global uint* row_totals, __global uint* tile_totals) {
     __local uint strip[STRIP_WORDS];
+    // Texture arrays: this layer's input and carries (msm_array.clh).
+    MSM_ARRAY_SLICE(source, MSM_SAT_SOURCE_ELEMENTS(width, height));
+    MSM_ARRAY_SLICE(column_totals, 4 * get_num_groups(0) * TILE * get_num_groups(1));
+    MSM_ARRAY_SLICE(row_totals, 4 * get_num_groups(0) * get_num_groups(1) * TILE);
+    MSM_ARRAY_SLICE(tile_totals, 4 * get_num_groups(0) * get_num_groups(1));
     const uint lx = (uint)get_local_id(0);
     const size_t x = get_group_id(0) * TILE + lx;
     const int y0 = (int)(get_group_id(1) * TILE);
@@ -128,6 +135,12 @@ void sat_tile_scan(__global const SOURCE_TYPE* source, int width, int height, ui
                    __global const uint* column_carries, __global const uint* row_carries,
                    __global const uint* corner_carries, __global uint* table) {
     __local uint strip[STRIP_WORDS];
+    // Texture arrays: this layer's input, carries and table (msm_array.clh).
+    MSM_ARRAY_SLICE(source, MSM_SAT_SOURCE_ELEMENTS(width, height));
+    MSM_ARRAY_SLICE(column_carries, 4 * get_num_groups(0) * TILE * get_num_groups(1));
+    MSM_ARRAY_SLICE(row_carries, 4 * get_num_groups(0) * get_num_groups(1) * TILE);
+    MSM_ARRAY_SLICE(corner_carries, 4 * get_num_groups(0) * get_num_groups(1));
+    MSM_ARRAY_SLICE(table, 4 * (size_t)width * height);
     const uint lx = (uint)get_local_id(0);
     const size_t x = get_group_id(0) * TILE + lx;
     const int y0 = (int)(get_group_id(1) * TILE);
@@ -190,6 +203,8 @@ void sat_tile_scan(__global const SOURCE_TYPE* source, int width, int height, ui
 // Baseline, horizontal: one work-item per row, texels converted on the fly (Peters et al., i3D 2016).
 __kernel void sat_rows_per_thread(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                   __global uint* table) {
+    MSM_ARRAY_SLICE_ANY_GROUP(source, MSM_SAT_SOURCE_ELEMENTS(width, height));
+    MSM_ARRAY_SLICE_ANY_GROUP(table, 4 * (size_t)width * height);
     const size_t y = get_global_id(0);
     if (y >= (size_t)height) return;
     uint s0 = 0u, s1 = 0u, s2 = 0u, s3 = 0u;
@@ -209,6 +224,7 @@ __kernel void sat_rows_per_thread(__global const SOURCE_TYPE* source, int width,
 
 // Baseline, vertical: one work-item per column, in place.
 __kernel void sat_columns_per_thread(__global uint* table, int width, int height) {
+    MSM_ARRAY_SLICE_ANY_GROUP(table, 4 * (size_t)width * height);
     const size_t x = get_global_id(0);
     if (x >= (size_t)width) return;
     uint s0 = 0u, s1 = 0u, s2 = 0u, s3 = 0u;

@@ -31,6 +31,7 @@
 // R,G,B,A per texel; 2 the texels of step 1: planar per full chunk, R,G,B,A in the last,
 // partial chunk of a row), MSM_SAT_BAND_H (rows per band).
 #include "msm_sat.clh"
+#include "msm_array.clh"
 
 #define LANES 16
 #define BAND_H MSM_SAT_BAND_H
@@ -343,6 +344,10 @@ static inline void store_step1_texels(texels16 t, __global uint* texels, int wid
 // buffer), for step 3 to scan in place.
 ALWAYS_INLINE void accumulate_band_totals(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                          __global uint* band_totals, __global uint* texels) {
+    // Texture arrays: this layer's input, band totals and texels (msm_array.clh).
+    MSM_ARRAY_SLICE(source, MSM_SAT_SOURCE_ELEMENTS(width, height));
+    MSM_ARRAY_SLICE(band_totals, 4 * (size_t)((height + BAND_H - 1) / BAND_H) * ((width + LANES - 1) / LANES) * LANES);
+    if (texels) MSM_ARRAY_SLICE(texels, 4 * (size_t)width * height);
     const int band = (int)get_global_id(0);
     const int y0 = band * BAND_H;
     const int rows = min(BAND_H, height - y0);
@@ -401,6 +406,10 @@ ALWAYS_INLINE void scan_chunk_row(texels16 column, texels16* left, __global uint
 // plus each row's texels, lane scans plus the row's left carry, one write per texel.
 __kernel void sat_band_scan_cpu(__global const SOURCE_TYPE* source, int width, int height, uint scale,
                                 __global uint* column_carries, __global uint* table) {
+    // Texture arrays: this layer's input, carries and table (msm_array.clh).
+    MSM_ARRAY_SLICE(source, MSM_SAT_SOURCE_ELEMENTS(width, height));
+    MSM_ARRAY_SLICE(column_carries, 4 * (size_t)((height + BAND_H - 1) / BAND_H) * ((width + LANES - 1) / LANES) * LANES);
+    MSM_ARRAY_SLICE(table, 4 * (size_t)width * height);
     const int band = (int)get_global_id(0);
     const int y0 = band * BAND_H;
     const int rows = min(BAND_H, height - y0);

@@ -5,11 +5,14 @@
 //   row_totals[tx * padded_height + y]       sum of row y within tile column tx
 //   tile_totals / corner_carries[ty * tiles_x + tx]
 // One work-item per column, row or tile column; accesses are consecutive across
-// work-items.
+// work-items. MSM_ARRAY 1: texture arrays, the third NDRange dimension is the layer
+// (msm_array.clh).
+#include "msm_array.clh"
 
 // One work-item per column x: column_totals -> the sum of column x above each tile
 // row (exclusive prefix over tile rows), in place.
 __kernel void sat_column_carries(__global uint* column_totals, int padded_width, int tiles_y) {
+    MSM_ARRAY_SLICE_ANY_GROUP(column_totals, 4 * (size_t)padded_width * tiles_y);
     const size_t x = get_global_id(0);
     if (x >= (size_t)padded_width) return;
     uint s0 = 0u, s1 = 0u, s2 = 0u, s3 = 0u;
@@ -31,6 +34,7 @@ __kernel void sat_column_carries(__global uint* column_totals, int padded_width,
 // One work-item per row y: row_totals -> the sum of row y left of each tile column
 // (exclusive prefix over tile columns), in place.
 __kernel void sat_row_carries(__global uint* row_totals, int padded_height, int tiles_x) {
+    MSM_ARRAY_SLICE_ANY_GROUP(row_totals, 4 * (size_t)padded_height * tiles_x);
     const size_t y = get_global_id(0);
     if (y >= (size_t)padded_height) return;
     uint s0 = 0u, s1 = 0u, s2 = 0u, s3 = 0u;
@@ -53,6 +57,8 @@ __kernel void sat_row_carries(__global uint* row_totals, int padded_height, int 
 // all tiles above and to the left, (tx', ty') < (tx, ty).
 __kernel void sat_corner_carries(__global const uint* tile_totals, int tiles_x, int tiles_y,
                                  __global uint* corner_carries) {
+    MSM_ARRAY_SLICE_ANY_GROUP(tile_totals, 4 * (size_t)tiles_x * tiles_y);
+    MSM_ARRAY_SLICE_ANY_GROUP(corner_carries, 4 * (size_t)tiles_x * tiles_y);
     const size_t tx = get_global_id(0);
     if (tx >= (size_t)tiles_x) return;
     uint s0 = 0u, s1 = 0u, s2 = 0u, s3 = 0u;

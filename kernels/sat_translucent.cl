@@ -7,10 +7,16 @@
 // `layer_depth` (as rendered) and `layer_opacity`.
 #include "msm_sat.clh"
 #include "msm_translucent.clh"
+#include "msm_array.clh"
 
 __kernel void sat_translucent_texels(__global const float* depth, __global const float* layer_depth,
                                      __global const float* layer_opacity, int width, int height, uint scale,
                                      __global uint* texels) {
+    // Texture arrays: this layer's depth, translucent layers and texels (msm_array.clh).
+    MSM_ARRAY_SLICE_ANY_GROUP(depth, (size_t)width * height * MSM_SAMPLES);
+    MSM_ARRAY_SLICE_ANY_GROUP(layer_depth, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+    MSM_ARRAY_SLICE_ANY_GROUP(layer_opacity, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
+    MSM_ARRAY_SLICE_ANY_GROUP(texels, 4 * (size_t)width * height);
     const int x = (int)get_global_id(0);
     const int y = (int)get_global_id(1);
     if (x >= width || y >= height) return;

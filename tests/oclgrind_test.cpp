@@ -420,6 +420,33 @@ TEST_F(Oclgrind, FusedCpuDefaultTile) {
                      filtering(depth(4), {}, Format::msm64, FilterKernel::fused_cpu));
 }
 
+// Texture arrays (MSM_ARRAY programs: the layer from the launch's third dimension): two
+// maps of 45x13 in one call through every filter and table distribution, translucent
+// layers in the paper's kernel; Oclgrind checks that no layer reads or writes another's.
+TEST_F(Oclgrind, TextureArrays) {
+    DepthImage two = depth(1, DepthRange::zero_one, kWidth, 13);
+    const DepthImage second = depth(1, DepthRange::zero_one, kWidth, 13);
+    two.depth.insert(two.depth.end(), second.depth.begin(), second.depth.end());
+    two.layers = 2;
+    expect_texture("fused_paper array of 2, " + variant(Format::msm64, 1), Format::msm64,
+                   filtering(two, {}, Format::msm64, FilterKernel::fused_paper));
+    expect_texture("fused_paper array of 2, " + variant(Format::nlq64, 1, 1), Format::nlq64,
+                   filtering(two, layers(two, 1), Format::nlq64, FilterKernel::fused_paper));
+    expect_texture("three_pass array of 2, " + variant(Format::nlq32, 1), Format::nlq32,
+                   filtering(two, {}, Format::nlq32, FilterKernel::three_pass));
+    for (SatKernel kernel : {SatKernel::tiled_gpu, SatKernel::tiled_cpu, SatKernel::row_per_thread}) {
+        expect_identical(std::string("sat array of 2, ") + msmcl::sat_kernel_name(kernel), [=](Context& context) {
+            msmcl::SatOptions options;
+            options.kernel = kernel;
+            options.max_kernel_texels = 100;
+            return msmcl::build_sat(context, two, options).words;
+        }, 4);
+    }
+    use_cpu_tile("16x8");
+    expect_texture("fused_cpu 16x8 array of 2, " + variant(Format::nlq64, 1), Format::nlq64,
+                   filtering(two, {}, Format::nlq64, FilterKernel::fused_cpu));
+}
+
 // Filtering from a depth image whose samples are layers of an image array: the interop
 // path's interleaving kernel (depth_interleave_layers), then the paper's kernel.
 TEST_F(Oclgrind, FilterFromLayeredDepthImage) {

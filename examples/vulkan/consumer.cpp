@@ -199,6 +199,10 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
         throw msmcl::input_error(a.map + ": no msmcl:format of a shadow map (moments128, msm64, nlq64, nlq32)");
     // Validates the file's vkFormat against the README's table for this texture.
     (void)msmcl::io::texture_of(image, *format, a.map);
+    // The shaders bind one 2D map (a cascade array's layer is a 2D view of it, see the README).
+    if (image.array || image.layers != 1)
+        throw msmcl::input_error(a.map + ": a texture array of " + std::to_string(image.layers) +
+                                 " layers; shade takes one 2D map");
     const int lookup_index = static_cast<int>(lookup - lookups.begin());
     const bool filterable = *format == msmcl::Format::moments128 || *format == msmcl::Format::msm64;
     if (lookup_index == 3 && !filterable)

@@ -198,16 +198,18 @@ cl_mem_object_type memory_type(cl_mem memory) {
 
 bool is_buffer(cl_mem memory) { return memory_type(memory) == CL_MEM_OBJECT_BUFFER; }
 
-msmcl::DeviceDepth to_device_depth(const msmcl_device_depth& depth) {
-    return msmcl::DeviceDepth{depth.memory, depth.width, depth.height, depth.samples};
+// `array_layers` maps of one size (texture arrays), 1 for one map.
+msmcl::DeviceDepth to_device_depth(const msmcl_device_depth& depth, int array_layers) {
+    return msmcl::DeviceDepth{depth.memory, depth.width, depth.height, depth.samples, array_layers};
 }
 
-msmcl::DeviceDepthImage to_device_depth_image(const msmcl_device_depth& depth, const char* call) {
+msmcl::DeviceDepthImage to_device_depth_image(const msmcl_device_depth& depth, int array_layers, const char* call) {
     msmcl::DeviceDepthImage image;
     image.image = depth.memory;
     image.width = depth.width;
     image.height = depth.height;
     image.samples = depth.samples;
+    image.layers = array_layers;
     switch (enum_value(depth.layout)) {
     case MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE: image.layout = msmcl::SampleLayout::side_by_side; break;
     case MSMCL_SAMPLE_LAYOUT_LAYERS: image.layout = msmcl::SampleLayout::layers; break;
@@ -226,17 +228,26 @@ std::size_t texel_count(int width, int height, const char* call) {
     return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
 }
 
-msmcl::DepthImage to_depth_image(const float* depth, int width, int height, int samples, const char* call) {
+static_assert(MSMCL_MAX_ARRAY_LAYERS == msmcl::max_array_layers, "msmcl.h and formats.hpp disagree");
+
+// `array_layers` maps of one size, layer after layer (texture arrays).
+msmcl::DepthImage to_depth_image(const float* depth, int width, int height, int samples, const char* call,
+                                 int array_layers = 1) {
     require(depth, call, "depth");
     const std::size_t texels = texel_count(width, height, call);
     if (!msmcl::is_supported_sample_count(samples))
         throw msmcl::input_error(std::string(call) + ": unsupported sample count " + std::to_string(samples) +
                                  " (supported: 1, 2, 4, 8, 16)");
+    // Refuse a bad layer count before copying (the C++ API would, after).
+    if (array_layers < 1 || array_layers > msmcl::max_array_layers)
+        throw msmcl::input_error(std::string(call) + ": " + std::to_string(array_layers) + " array layers (1 to " +
+                                 std::to_string(msmcl::max_array_layers) + ")");
     msmcl::DepthImage image;
     image.width = width;
     image.height = height;
     image.samples = samples;
-    image.depth.assign(depth, depth + texels * static_cast<std::size_t>(samples));
+    image.layers = array_layers;
+    image.depth.assign(depth, depth + texels * static_cast<std::size_t>(samples) * static_cast<std::size_t>(array_layers));
     return image;
 }
 
@@ -283,16 +294,17 @@ void require_buffers_for_layers(cl_mem depth, cl_mem output, const char* output_
 // msmcl_filter and msmcl_filter_layered.
 void filter_host(msmcl_context* context, const float* depth, int width, int height, int samples,
                  const msmcl_translucent_layer* layers, std::size_t layer_count, const msmcl_filter_options* options,
-                 void* texture, std::size_t texture_bytes, const char* call) {
+                 void* texture, std::size_t texture_bytes, const char* call, int array_layers = 1) {
     require(context, call, "context");
     require(texture, call, "texture");
     const msmcl::FilterOptions filter_options = to_filter_options(options, call);
-    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
+    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call, array_layers);
     const std::size_t needed = image.depth.size() / samples * msmcl::texel_bytes(filter_options.format);
     if (texture_bytes < needed)
         throw invalid_argument{std::string(call) + ": texture_bytes is " + std::to_string(texture_bytes) + ", a " +
                                std::to_string(width) + "x" + std::to_string(height) + " " +
-                               msmcl::format_name(filter_options.format) + " texture needs " + std::to_string(needed)};
+                               msmcl::format_name(filter_options.format) + " texture of " +
+                               std::to_string(array_layers) + " layer(s) needs " + std::to_string(needed)};
     const std::vector<msmcl::TranslucentLayer> translucent = to_layers(layers, layer_count, image.depth.size(), call);
     const msmcl::Texture result = msmcl::filter(context->context, image, translucent, filter_options);
     std::memcpy(texture, result.words.data(), needed);
@@ -301,7 +313,7 @@ void filter_host(msmcl_context* context, const float* depth, int width, int heig
 // msmcl_filter_device and msmcl_filter_layered_device: buffers or images, as the cl_mem types say.
 void filter_device(msmcl_context* context, const msmcl_device_depth* depth, const msmcl_device_layers* layers,
                    cl_mem texture, const msmcl_filter_options* options, const msmcl_enqueue* enqueue,
-                   const char* call) {
+                   const char* call, int array_layers = 1) {
     require(context, call, "context");
     require(depth, call, "depth");
     if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
@@ -309,23 +321,24 @@ void filter_device(msmcl_context* context, const msmcl_device_depth* depth, cons
     const msmcl::FilterOptions filter_options = to_filter_options(options, call);
     const msmcl::DeviceLayers device_layers = to_device_layers(layers, call);
     const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+    const msmcl::DeviceDepth in_buffer = to_device_depth(*depth, array_layers);
+    const auto in_image = [&] { return to_device_depth_image(*depth, array_layers, call); };
     // With layers (or a bad count, which the C++ API reports): buffers only.
     if (device_layers.count != 0) {
         require_buffers_for_layers(depth->memory, texture, "texture", call);
-        msmcl::filter(context->context, to_device_depth(*depth), device_layers, texture, filter_options, plumbing);
+        msmcl::filter(context->context, in_buffer, device_layers, texture, filter_options, plumbing);
         return;
     }
     const bool depth_in_buffer = is_buffer(depth->memory);
     const bool texture_in_buffer = is_buffer(texture);
     if (depth_in_buffer && texture_in_buffer)
-        msmcl::filter(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
+        msmcl::filter(context->context, in_buffer, texture, filter_options, plumbing);
     else if (depth_in_buffer)
-        msmcl::filter_to_image(context->context, to_device_depth(*depth), texture, filter_options, plumbing);
+        msmcl::filter_to_image(context->context, in_buffer, texture, filter_options, plumbing);
     else if (texture_in_buffer)
-        msmcl::filter(context->context, to_device_depth_image(*depth, call), texture, filter_options, plumbing);
+        msmcl::filter(context->context, in_image(), texture, filter_options, plumbing);
     else
-        msmcl::filter_to_image(context->context, to_device_depth_image(*depth, call), texture, filter_options,
-                               plumbing);
+        msmcl::filter_to_image(context->context, in_image(), texture, filter_options, plumbing);
 }
 
 // Host receivers of msmcl_shade* and msmcl_soft_shade: u, v, z and the output checked
@@ -379,16 +392,16 @@ void shade_host(msmcl_context* context, const msmcl_format& format, int width, i
 // msmcl_build_sat and msmcl_build_sat_layered.
 void build_sat_host(msmcl_context* context, const float* depth, int width, int height, int samples,
                     const msmcl_translucent_layer* layers, std::size_t layer_count, const msmcl_sat_options* options,
-                    uint32_t* table, std::size_t table_words, const char* call) {
+                    uint32_t* table, std::size_t table_words, const char* call, int array_layers = 1) {
     require(context, call, "context");
     require(table, call, "table");
     const msmcl::SatOptions sat_options = to_sat_options(options, call);
-    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call);
+    const msmcl::DepthImage image = to_depth_image(depth, width, height, samples, call, array_layers);
     const std::size_t needed = 4 * (image.depth.size() / samples);
     if (table_words < needed)
         throw invalid_argument{std::string(call) + ": table_words is " + std::to_string(table_words) + ", a " +
-                               std::to_string(width) + "x" + std::to_string(height) + " table needs " +
-                               std::to_string(needed)};
+                               std::to_string(width) + "x" + std::to_string(height) + " table of " +
+                               std::to_string(array_layers) + " layer(s) needs " + std::to_string(needed)};
     const std::vector<msmcl::TranslucentLayer> translucent = to_layers(layers, layer_count, image.depth.size(), call);
     const msmcl::SatTable result = msmcl::build_sat(context->context, image, translucent, sat_options);
     std::memcpy(table, result.words.data(), needed * sizeof(std::uint32_t));
@@ -396,7 +409,8 @@ void build_sat_host(msmcl_context* context, const float* depth, int width, int h
 
 // msmcl_build_sat_device and msmcl_build_sat_layered_device.
 void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, const msmcl_device_layers* layers,
-                      cl_mem table, const msmcl_sat_options* options, const msmcl_enqueue* enqueue, const char* call) {
+                      cl_mem table, const msmcl_sat_options* options, const msmcl_enqueue* enqueue, const char* call,
+                      int array_layers = 1) {
     require(context, call, "context");
     require(depth, call, "depth");
     if (!depth->memory) throw invalid_argument{std::string(call) + ": depth->memory is NULL"};
@@ -404,22 +418,24 @@ void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, c
     const msmcl::SatOptions sat_options = to_sat_options(options, call);
     const msmcl::DeviceLayers device_layers = to_device_layers(layers, call);
     const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+    const msmcl::DeviceDepth in_buffer = to_device_depth(*depth, array_layers);
+    const auto in_image = [&] { return to_device_depth_image(*depth, array_layers, call); };
     // With layers (or a bad count, which the C++ API reports): buffers only.
     if (device_layers.count != 0) {
         require_buffers_for_layers(depth->memory, table, "table", call);
-        msmcl::build_sat(context->context, to_device_depth(*depth), device_layers, table, sat_options, plumbing);
+        msmcl::build_sat(context->context, in_buffer, device_layers, table, sat_options, plumbing);
         return;
     }
     const bool depth_in_buffer = is_buffer(depth->memory);
     const bool table_in_buffer = is_buffer(table);
     if (depth_in_buffer && table_in_buffer)
-        msmcl::build_sat(context->context, to_device_depth(*depth), table, sat_options, plumbing);
+        msmcl::build_sat(context->context, in_buffer, table, sat_options, plumbing);
     else if (depth_in_buffer)
-        msmcl::build_sat_to_image(context->context, to_device_depth(*depth), table, sat_options, plumbing);
+        msmcl::build_sat_to_image(context->context, in_buffer, table, sat_options, plumbing);
     else if (table_in_buffer)
-        msmcl::build_sat(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
+        msmcl::build_sat(context->context, in_image(), table, sat_options, plumbing);
     else
-        msmcl::build_sat_to_image(context->context, to_device_depth_image(*depth, call), table, sat_options, plumbing);
+        msmcl::build_sat_to_image(context->context, in_image(), table, sat_options, plumbing);
 }
 
 } // namespace
@@ -731,6 +747,38 @@ msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t* table, int
         const msmcl::Receivers receivers = to_receivers(u, v, z, count, intensity, call);
         const std::vector<float> result = msmcl::soft_shade(context->context, sat, receivers, soft_options);
         std::copy(result.begin(), result.end(), intensity);
+    });
+}
+
+msmcl_status msmcl_filter_array(msmcl_context* context, const float* depth, int width, int height, int samples,
+                                int layers, const msmcl_filter_options* options, void* texture, size_t texture_bytes) {
+    return guarded([&] {
+        filter_host(context, depth, width, height, samples, nullptr, 0, options, texture, texture_bytes,
+                    "msmcl_filter_array", layers);
+    });
+}
+
+msmcl_status msmcl_filter_array_device(msmcl_context* context, const msmcl_device_depth* depth, int layers,
+                                       cl_mem texture, const msmcl_filter_options* options,
+                                       const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        filter_device(context, depth, nullptr, texture, options, enqueue, "msmcl_filter_array_device", layers);
+    });
+}
+
+msmcl_status msmcl_build_sat_array(msmcl_context* context, const float* depth, int width, int height, int samples,
+                                   int layers, const msmcl_sat_options* options, uint32_t* table, size_t table_words) {
+    return guarded([&] {
+        build_sat_host(context, depth, width, height, samples, nullptr, 0, options, table, table_words,
+                       "msmcl_build_sat_array", layers);
+    });
+}
+
+msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_device_depth* depth, int layers,
+                                          cl_mem table, const msmcl_sat_options* options,
+                                          const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        build_sat_device(context, depth, nullptr, table, options, enqueue, "msmcl_build_sat_array_device", layers);
     });
 }
 

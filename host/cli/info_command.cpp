@@ -94,7 +94,8 @@ bool ends_with(const std::string& text, const std::string& suffix) {
 
 /// The decoded quantities of every texel of a filtered map, with the ranges each may take.
 json texture_channels(const Texture& texture) {
-    const std::size_t texels = static_cast<std::size_t>(texture.width) * texture.height;
+    // Every texel of every array layer.
+    const std::size_t texels = static_cast<std::size_t>(texture.width) * texture.height * texture.layers;
     std::vector<ChannelStats> stats;
     if (texture.format == Format::moments128 || texture.format == Format::msm64) {
         // Power moments of depths in [-1,1]: odd ones in [-1,1], even ones in [0,1].

@@ -153,6 +153,9 @@ io::TextureFile read_texture_file(const std::string& path, std::optional<Format>
     }
     if (recorded && format && *recorded != *format)
         fail(path, std::string("holds a ") + format_name(*recorded) + " texture, --format says " + format_name(*format));
+    // The commands that read a map take one 2D texture (info reads arrays itself).
+    if (image.layers != 1 || image.array)
+        fail(path, "holds a texture array of " + std::to_string(image.layers) + " layers, expected one 2D texture");
     io::TextureFile file;
     file.texture = io::texture_of(image, recorded.value_or(format.value_or(Format::nlq64)), path);
     file.info = info_of(image, path);

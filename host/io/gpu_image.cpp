@@ -20,11 +20,14 @@ constexpr GpuFormatInfo kFormats[] = {
 constexpr GpuFormat kAllFormats[] = {GpuFormat::r16g16b16a16_unorm, GpuFormat::r32_uint, GpuFormat::r32g32b32a32_sfloat,
                                      GpuFormat::r32g32b32a32_uint, GpuFormat::a2b10g10r10_unorm_pack32};
 
-GpuImage image_of_words(GpuFormat format, int width, int height, const std::vector<std::uint32_t>& words) {
+// `layers` > 1: a texture array (KTX2 layerCount, DDS arraySize); one layer: a 2D texture.
+GpuImage image_of_words(GpuFormat format, int width, int height, int layers, const std::vector<std::uint32_t>& words) {
     GpuImage image;
     image.format = format;
     image.width = width;
     image.height = height;
+    image.layers = layers;
+    image.array = layers > 1;
     // Little-endian words, as the device wrote them (x86 and ARM hosts are little-endian).
     image.bytes.resize(words.size() * sizeof(std::uint32_t));
     if (!words.empty()) std::memcpy(image.bytes.data(), words.data(), image.bytes.size());
@@ -64,14 +67,15 @@ GpuFormat gpu_format_of(Format format) noexcept {
 }
 
 GpuImage gpu_image_of(const Texture& texture, std::vector<std::pair<std::string, std::string>> metadata) {
-    GpuImage image = image_of_words(gpu_format_of(texture.format), texture.width, texture.height, texture.words);
+    GpuImage image =
+        image_of_words(gpu_format_of(texture.format), texture.width, texture.height, texture.layers, texture.words);
     image.metadata.emplace_back("msmcl:format", format_name(texture.format));
     for (auto& entry : metadata) image.metadata.push_back(std::move(entry));
     return image;
 }
 
 GpuImage gpu_image_of(const SatTable& table) {
-    GpuImage image = image_of_words(GpuFormat::r32g32b32a32_uint, table.width, table.height, table.words);
+    GpuImage image = image_of_words(GpuFormat::r32g32b32a32_uint, table.width, table.height, table.layers, table.words);
     image.metadata = {{"msmcl:format", "sat"},
                       {"msmcl:maxKernelTexels", std::to_string(table.max_kernel_texels)},
                       {"msmcl:scale", std::to_string(table.scale)}};
@@ -82,8 +86,6 @@ Texture texture_of(const GpuImage& image, Format format, const std::string& name
     if (image.format != gpu_format_of(format))
         throw input_error(name + ": holds " + gpu_format_info(image.format).name + " texels, a " + format_name(format) +
                           " texture is " + gpu_format_info(gpu_format_of(format)).name);
-    if (image.layers != 1 || image.array)
-        throw input_error(name + ": holds a texture array, expected one 2D texture");
     if (image.bytes.size() != image.expected_bytes())
         throw input_error(name + ": holds " + std::to_string(image.bytes.size()) + " bytes of texels, expected " +
                           std::to_string(image.expected_bytes()));
@@ -91,6 +93,7 @@ Texture texture_of(const GpuImage& image, Format format, const std::string& name
     texture.format = format;
     texture.width = image.width;
     texture.height = image.height;
+    texture.layers = image.layers;
     texture.words.resize(image.bytes.size() / sizeof(std::uint32_t));
     if (!image.bytes.empty()) std::memcpy(texture.words.data(), image.bytes.data(), image.bytes.size());
     return texture;

@@ -56,13 +56,14 @@ struct GpuImage {
 /// The GPU format of a texture: r32g32b32a32_sfloat, r16g16b16a16_unorm (msm64, nlq64), r32_uint.
 GpuFormat gpu_format_of(Format format) noexcept;
 
-/// A texture with the bytes of Texture::words; metadata msmcl:format plus `metadata`.
+/// A texture with the bytes of Texture::words (a texture array for Texture::layers > 1);
+/// metadata msmcl:format plus `metadata`.
 GpuImage gpu_image_of(const Texture& texture, std::vector<std::pair<std::string, std::string>> metadata = {});
-/// A summed-area table (r32g32b32a32_uint); metadata msmcl:format "sat", msmcl:maxKernelTexels, msmcl:scale.
+/// A summed-area table (r32g32b32a32_uint, an array for SatTable::layers > 1); metadata msmcl:format "sat", msmcl:maxKernelTexels, msmcl:scale.
 GpuImage gpu_image_of(const SatTable& table);
 
-/// The texture of `format` held by `image` (one layer of the matching GPU format). Throws
-/// input_error naming `name` on a mismatch.
+/// The texture of `format` held by `image` (of the matching GPU format; a texture array
+/// gives a Texture of as many layers). Throws input_error naming `name` on a mismatch.
 Texture texture_of(const GpuImage& image, Format format, const std::string& name);
 
 } // namespace msmcl::io

@@ -68,6 +68,11 @@ std::string describe_size(int width, int height, int samples) {
     return text.str();
 }
 
+// ", 4 array layers" for texture arrays, nothing for one map.
+std::string layers_text(int array_layers) {
+    return array_layers == 1 ? std::string() : ", " + std::to_string(array_layers) + " array layers";
+}
+
 // Width, height and sample count the filter can work with.
 void validate_shape(int width, int height, int samples) {
     detail::validate_map_size("filter: depth map size", width, height);
@@ -87,8 +92,9 @@ struct LayerBuffers {
 
 // Buffers the call allocates or reads, against the device's largest allocation.
 void validate_device_sizes(const DeviceInfo& device, int width, int height, int samples, Format format,
-                           FilterKernel kernel, int layers = 0) {
-    const unsigned long long texels = detail::texel_count(width, height);
+                           FilterKernel kernel, int layers, int array_layers) {
+    // A texture array's buffers hold every array layer.
+    const unsigned long long texels = detail::texel_count(width, height) * static_cast<unsigned long long>(array_layers);
     const auto check = [&](unsigned long long bytes, const char* what) {
         if (device.max_alloc_bytes != 0 && bytes > device.max_alloc_bytes) {
             throw device_error(std::string("filter: ") + what + " for a " + describe_size(width, height, samples) +
@@ -141,8 +147,19 @@ FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
     return requested;
 }
 
-std::vector<std::string> kernel_defines(int samples, const FilterOptions& options, int layers) {
-    return detail::filter_defines(samples, options.format, options.depth_range, layers);
+std::vector<std::string> kernel_defines(int samples, const FilterOptions& options, int layers, int array_layers) {
+    return detail::filter_defines(samples, options.format, options.depth_range, layers, array_layers > 1);
+}
+
+// The launch grid of `groups` (2D) over `array_layers` layers: a third dimension for texture
+// arrays (one group per layer in it), the plain 2D grid for one map.
+cl::NDRange layered(std::size_t x, std::size_t y, int array_layers) {
+    if (array_layers == 1) return cl::NDRange(x, y);
+    return cl::NDRange(x, y, static_cast<std::size_t>(array_layers));
+}
+// A work-group of `x` work-items in a grid from layered().
+cl::NDRange group_of(std::size_t x, int array_layers) {
+    return array_layers == 1 ? cl::NDRange(x, 1) : cl::NDRange(x, 1, 1);
 }
 
 // Sets the 5 distinct taps w0 (centre) .. w4 as float arguments starting at `first`.
@@ -156,10 +173,10 @@ void set_tap_arguments(cl::Kernel& kernel, cl_uint first, const std::array<float
 cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& queue,
                             const std::vector<cl::Event>& waits, const cl::Buffer& depth, int width, int height,
                             const cl::Buffer& texture, const FilterOptions& options, int samples,
-                            const std::array<float, 9>& taps, const LayerBuffers& layers) {
+                            const std::array<float, 9>& taps, const LayerBuffers& layers, int array_layers) {
     const CpuTiling tiling = cpu_tiling();
     const std::vector<std::string> defines =
-        detail::filter_cpu_defines(samples, options.format, options.depth_range, layers.count);
+        detail::filter_cpu_defines(samples, options.format, options.depth_range, layers.count, array_layers > 1);
     // Tile grid; tile columns [ix0, ix1) read and write no column outside the image.
     const int tiles_x = (width + tiling.width - 1) / tiling.width;
     const int tiles_y = (height + tiling.height - 1) / tiling.height;
@@ -187,10 +204,11 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
         return kernel;
     };
 
-    // One int of scratch per group: its current row (see CPU_FILTER_TILE in the kernel).
+    // One int of scratch per group of each layer: its current row (see CPU_FILTER_TILE in the kernel).
     cl_int status = CL_SUCCESS;
     cl::Buffer progress(impl.context, CL_MEM_READ_WRITE,
-                        sizeof(cl_int) * std::max(interior_columns, border_columns) * tiles_y, nullptr, &status);
+                        sizeof(cl_int) * std::max(interior_columns, border_columns) * tiles_y * array_layers, nullptr,
+                        &status);
     detail::check(status, "clCreateBuffer(filter progress)");
 
     std::vector<cl::Event> before = waits;
@@ -204,8 +222,8 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
             detail::set_arg(kernel, 14, layers.opacity);
         }
         detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange,
-                                                 cl::NDRange(columns * group, static_cast<std::size_t>(tiles_y)),
-                                                 cl::NDRange(group, 1), &before, &last),
+                                                 layered(columns * group, static_cast<std::size_t>(tiles_y), array_layers),
+                                                 group_of(group, array_layers), &before, &last),
                       (std::string("clEnqueueNDRangeKernel(") + name + ")").c_str());
         before = {last};
     };
@@ -217,12 +235,12 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
 // Enqueues the whole filter on `queue`; returns the event of its last command.
 cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
                          const cl::Buffer& depth, int width, int height, int samples, const cl::Buffer& texture,
-                         const FilterOptions& options, const LayerBuffers& layers) {
+                         const FilterOptions& options, const LayerBuffers& layers, int array_layers) {
     const std::array<float, 9> taps = gaussian_taps(options.sigma);
     const FilterKernel kernel_choice = choose_kernel(impl.info, options.kernel);
-    validate_device_sizes(impl.info, width, height, samples, options.format, kernel_choice, layers.count);
-    const std::vector<std::string> defines = kernel_defines(samples, options, layers.count);
-    const cl::NDRange image(static_cast<std::size_t>(width), static_cast<std::size_t>(height));
+    validate_device_sizes(impl.info, width, height, samples, options.format, kernel_choice, layers.count, array_layers);
+    const std::vector<std::string> defines = kernel_defines(samples, options, layers.count, array_layers);
+    const cl::NDRange image = layered(static_cast<std::size_t>(width), static_cast<std::size_t>(height), array_layers);
     cl::Event last;
 
     if (kernel_choice == FilterKernel::fused_paper) {
@@ -246,18 +264,20 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
         // One work-group of 256 per 32x24 output tile.
         const std::size_t groups_x = (static_cast<std::size_t>(width) + kFusedTileWidth - 1) / kFusedTileWidth;
         const std::size_t groups_y = (static_cast<std::size_t>(height) + kFusedTileHeight - 1) / kFusedTileHeight;
-        detail::check(queue.enqueueNDRangeKernel(fused, cl::NullRange, cl::NDRange(groups_x * kFusedGroupSize, groups_y),
-                                                 cl::NDRange(kFusedGroupSize, 1), &waits, &last),
+        detail::check(queue.enqueueNDRangeKernel(fused, cl::NullRange,
+                                                 layered(groups_x * kFusedGroupSize, groups_y, array_layers),
+                                                 group_of(kFusedGroupSize, array_layers), &waits, &last),
                       "clEnqueueNDRangeKernel(filter_fused_gpu)");
         return last;
     }
 
-    if (kernel_choice == FilterKernel::fused_cpu) return enqueue_fused_cpu(impl, queue, waits, depth, width, height,
-                                                                           texture, options, samples, taps, layers);
+    if (kernel_choice == FilterKernel::fused_cpu)
+        return enqueue_fused_cpu(impl, queue, waits, depth, width, height, texture, options, samples, taps, layers,
+                                 array_layers);
 
-    // Three passes through two float4 moment buffers.
+    // Three passes through two float4 moment buffers (one map's worth per array layer).
     cl_int status = CL_SUCCESS;
-    const std::size_t moment_bytes = detail::texel_count(width, height) * 4 * sizeof(float);
+    const std::size_t moment_bytes = detail::texel_count(width, height) * array_layers * 4 * sizeof(float);
     cl::Buffer resolved(impl.context, CL_MEM_READ_WRITE, moment_bytes, nullptr, &status);
     detail::check(status, "clCreateBuffer(three-pass moments)");
     cl::Buffer rows(impl.context, CL_MEM_READ_WRITE, moment_bytes, nullptr, &status);
@@ -330,19 +350,21 @@ FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested)
 }
 
 // Compile-time variant: sample count, format (msmcl::Format order), depth convention.
-std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers) {
+std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array) {
     std::vector<std::string> defines = {"MSM_SAMPLES=" + std::to_string(samples),
                                         "MSM_FORMAT=" + std::to_string(static_cast<int>(format)),
                                         "MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0")};
     // Translucent layers: the compositing resolve (opaque maps keep the opaque program).
     if (layers > 0) defines.push_back("MSM_LAYERS=" + std::to_string(layers));
+    // Texture arrays: the layer-slicing program (single maps keep the plain one).
+    if (array) defines.push_back("MSM_ARRAY=1");
     return defines;
 }
 
 // The CPU kernel adds its tile.
-std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers) {
+std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers, bool array) {
     const CpuTiling tiling = cpu_tiling();
-    std::vector<std::string> defines = filter_defines(samples, format, range, layers);
+    std::vector<std::string> defines = filter_defines(samples, format, range, layers, array);
     defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
     defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));
     return defines;
@@ -385,30 +407,35 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                const FilterOptions& options) {
     // Validate everything before touching the device.
     validate_shape(depth.width, depth.height, depth.samples);
-    const std::size_t values = detail::texel_count(depth.width, depth.height) * depth.samples;
+    detail::validate_array_layers("filter", depth.layers);
+    const std::size_t values =
+        detail::texel_count(depth.width, depth.height) * depth.samples * static_cast<std::size_t>(depth.layers);
     if (depth.depth.size() != values) {
         throw input_error("filter: depth map " + describe_size(depth.width, depth.height, depth.samples) +
-                          " needs " + std::to_string(values) + " values, got " + std::to_string(depth.depth.size()));
+                          layers_text(depth.layers) + " needs " + std::to_string(values) + " values, got " +
+                          std::to_string(depth.depth.size()));
     }
     gaussian_taps(options.sigma); // throws input_error for a bad sigma
     detail::validate_depth_values("filter", depth, options.depth_range);
     detail::validate_layers("filter", depth, layers, options.depth_range);
     detail::ContextImpl& impl = context.impl();
     validate_device_sizes(impl.info, depth.width, depth.height, depth.samples, options.format,
-                          choose_kernel(impl.info, options.kernel), static_cast<int>(layers.size()));
+                          choose_kernel(impl.info, options.kernel), static_cast<int>(layers.size()), depth.layers);
 
-    // Upload (the layers one after the other), run on the Context's queue, read back.
+    // Upload (the translucent layers one after the other), run on the Context's queue, read back.
     Texture texture;
     texture.format = options.format;
     texture.width = depth.width;
     texture.height = depth.height;
-    texture.words.resize(detail::texel_count(depth.width, depth.height) * texel_words(options.format));
+    texture.layers = depth.layers;
+    texture.words.resize(detail::texel_count(depth.width, depth.height) * texel_words(options.format) *
+                         static_cast<std::size_t>(depth.layers));
     const cl::Buffer depth_buffer =
         detail::upload_in_place(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
     LayerBuffers layer_buffers;
     if (!layers.empty()) {
-        const std::vector<float> layer_depth = detail::concatenated_depths(layers);
-        const std::vector<float> layer_opacity = detail::concatenated_opacities(layers);
+        const std::vector<float> layer_depth = detail::concatenated_depths(layers, depth.layers);
+        const std::vector<float> layer_opacity = detail::concatenated_opacities(layers, depth.layers);
         layer_buffers.depth = detail::upload(impl, layer_depth.data(), layer_depth.size() * sizeof(float),
                                              "clCreateBuffer(layer depth)");
         layer_buffers.opacity = detail::upload(impl, layer_opacity.data(), layer_opacity.size() * sizeof(float),
@@ -419,7 +446,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
     const cl::Buffer texture_buffer =
         detail::result_buffer(impl, texture.words.data(), texture_bytes, "clCreateBuffer(texture)");
     const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
-                                          texture_buffer, options, layer_buffers);
+                                          texture_buffer, options, layer_buffers, depth.layers);
     detail::read_result(impl, texture_buffer, texture_bytes, texture.words.data(), done, "clEnqueueReadBuffer(texture)");
     return texture;
 }
@@ -432,22 +459,27 @@ void filter(Context& context, const DeviceDepth& depth, cl_mem texture, const Fi
 void filter(Context& context, const DeviceDepth& depth, const DeviceLayers& layers, cl_mem texture,
             const FilterOptions& options, const Enqueue& enqueue) {
     validate_shape(depth.width, depth.height, depth.samples);
+    detail::validate_array_layers("filter", depth.layers);
     if (!depth.buffer) throw input_error("filter: DeviceDepth::buffer is null");
     if (!texture) throw input_error("filter: the texture buffer is null");
     gaussian_taps(options.sigma); // throws input_error for a bad sigma
     detail::validate_layer_count("filter", layers.count);
-    // The caller's buffers must hold the whole depth map, the layers and the texture.
-    const cl_ulong depth_bytes = detail::texel_count(depth.width, depth.height) * depth.samples * sizeof(float);
-    const cl_ulong texture_bytes = detail::texel_count(depth.width, depth.height) * texel_bytes(options.format);
+    // The caller's buffers must hold the whole depth map, the layers and the texture (every array layer).
+    const cl_ulong array_layers = static_cast<cl_ulong>(depth.layers);
+    const cl_ulong depth_bytes =
+        detail::texel_count(depth.width, depth.height) * depth.samples * sizeof(float) * array_layers;
+    const cl_ulong texture_bytes = detail::texel_count(depth.width, depth.height) * texel_bytes(options.format) *
+                                   array_layers;
     if (detail::buffer_size(depth.buffer) < depth_bytes) {
         throw input_error("filter: the depth buffer holds " + std::to_string(detail::buffer_size(depth.buffer)) +
-                          " bytes, a " + describe_size(depth.width, depth.height, depth.samples) + " map needs " +
-                          std::to_string(depth_bytes));
+                          " bytes, a " + describe_size(depth.width, depth.height, depth.samples) +
+                          layers_text(depth.layers) + " map needs " + std::to_string(depth_bytes));
     }
     if (detail::buffer_size(texture) < texture_bytes) {
         throw input_error("filter: the texture buffer holds " + std::to_string(detail::buffer_size(texture)) +
                           " bytes, a " + std::to_string(depth.width) + "x" + std::to_string(depth.height) + " " +
-                          format_name(options.format) + " texture needs " + std::to_string(texture_bytes));
+                          format_name(options.format) + " texture" + layers_text(depth.layers) + " needs " +
+                          std::to_string(texture_bytes));
     }
     LayerBuffers layer_buffers;
     if (layers.count > 0) {
@@ -468,7 +500,7 @@ void filter(Context& context, const DeviceDepth& depth, const DeviceLayers& laye
     const cl::CommandQueue queue = impl.queue_for(enqueue);
     const cl::Event last = enqueue_filter(impl, queue, detail::wait_list(enqueue), cl::Buffer(depth.buffer, true),
                                           depth.width, depth.height, depth.samples, cl::Buffer(texture, true), options,
-                                          layer_buffers);
+                                          layer_buffers, depth.layers);
     detail::complete(enqueue, queue, last);
 }
 

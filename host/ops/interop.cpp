@@ -1,6 +1,7 @@
 // Device data in and out (include/msmcl/interop.hpp): depth images staged into the
 // buffer layout of DeviceDepth, textures and tables copied into caller-owned images. Only
 // device-side commands, chained by events.
+#include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
@@ -73,9 +74,14 @@ ImageShape describe_image(cl_mem image, cl_context expected_context, const char*
 
 // The caller's output image: a plain 2D image of an accepted format, large enough.
 void check_output_image(const ImageShape& shape, bool format_ok, const std::string& expected_format, int width,
-                        int height, const char* call) {
-    if (shape.type != CL_MEM_OBJECT_IMAGE2D)
+                        int height, int layers, const char* call) {
+    if (layers == 1 && shape.type != CL_MEM_OBJECT_IMAGE2D)
         throw input_error(std::string(call) + ": the output image is a 2D image array, expected a 2D image");
+    // Texture arrays: one array layer per map.
+    if (layers > 1 && (shape.type != CL_MEM_OBJECT_IMAGE2D_ARRAY || shape.layers < static_cast<std::size_t>(layers)))
+        throw input_error(std::string(call) + ": the output image has " + std::to_string(shape.layers) +
+                          " layers, a texture array of " + std::to_string(layers) +
+                          " maps needs a 2D image array of at least that many");
     if (!format_ok)
         throw input_error(std::string(call) + ": the output image has format " + format_text(shape.format) +
                           ", expected " + expected_format);
@@ -97,14 +103,23 @@ ImageShape check_depth_image(const DeviceDepthImage& depth, cl_context context, 
     if (!is_supported_sample_count(depth.samples))
         throw input_error(std::string(call) + ": unsupported sample count " + std::to_string(depth.samples) +
                           " (supported: 1, 2, 4, 8, 16)");
+    detail::validate_array_layers(call, depth.layers);
     const ImageShape shape = describe_image(depth.image, context, call, "depth image");
     if (!is_depth_format(shape.format))
         throw input_error(std::string(call) + ": the depth image has format " + format_text(shape.format) +
                           ", expected CL_R/CL_FLOAT or CL_DEPTH/CL_FLOAT");
     const std::size_t samples = static_cast<std::size_t>(depth.samples);
-    if (depth.layout == SampleLayout::side_by_side) {
+    const std::size_t maps = static_cast<std::size_t>(depth.layers);
+    if (depth.layout == SampleLayout::side_by_side && maps > 1) {
+        // A texture array: one array layer per map.
+        if (shape.type != CL_MEM_OBJECT_IMAGE2D_ARRAY || shape.layers < maps)
+            throw input_error(std::string(call) + ": a side_by_side depth image of " + std::to_string(maps) +
+                              " maps must be a 2D image array of at least that many layers");
+    } else if (depth.layout == SampleLayout::side_by_side) {
         if (shape.type != CL_MEM_OBJECT_IMAGE2D)
             throw input_error(std::string(call) + ": a side_by_side depth image must be a 2D image, not an array");
+    }
+    if (depth.layout == SampleLayout::side_by_side) {
         if (shape.width < depth.width * samples || shape.height < static_cast<std::size_t>(depth.height))
             throw input_error(std::string(call) + ": the depth image is " + size_text(shape.width, shape.height) +
                               ", a " + size_text(depth.width, depth.height) + " map with " +
@@ -114,11 +129,11 @@ ImageShape check_depth_image(const DeviceDepthImage& depth, cl_context context, 
         if (shape.type != CL_MEM_OBJECT_IMAGE2D_ARRAY)
             throw input_error(std::string(call) + ": a layered depth image must be a 2D image array");
         if (shape.width < static_cast<std::size_t>(depth.width) ||
-            shape.height < static_cast<std::size_t>(depth.height) || shape.layers < samples)
+            shape.height < static_cast<std::size_t>(depth.height) || shape.layers < samples * maps)
             throw input_error(std::string(call) + ": the depth image is " + size_text(shape.width, shape.height) +
-                              " with " + std::to_string(shape.layers) + " layers, a " +
-                              size_text(depth.width, depth.height) + " map with " + std::to_string(depth.samples) +
-                              " samples needs as many layers of at least that size");
+                              " with " + std::to_string(shape.layers) + " layers, " + std::to_string(maps) + " " +
+                              size_text(depth.width, depth.height) + " map(s) with " + std::to_string(depth.samples) +
+                              " samples need as many layers of at least that size");
     }
     return shape;
 }
@@ -144,26 +159,28 @@ DeviceDepth stage_depth_image(detail::ContextImpl& impl, const cl::CommandQueue&
                               cl::Event& staged) {
     const std::size_t texels = static_cast<std::size_t>(depth.width) * depth.height;
     const std::size_t samples = static_cast<std::size_t>(depth.samples);
-    buffer = device_only_buffer(impl, texels * samples * sizeof(float), "staged depth");
+    // Texture arrays: the maps one after the other, as a layered DeviceDepth holds them.
+    const std::size_t maps = static_cast<std::size_t>(depth.layers);
+    buffer = device_only_buffer(impl, texels * samples * maps * sizeof(float), "staged depth");
     const std::vector<cl_event> raw_waits = raw_events(waits);
     const cl_event* wait_data = raw_waits.empty() ? nullptr : raw_waits.data();
     if (depth.layout == SampleLayout::side_by_side || samples == 1) {
         // Rows of S * width floats: exactly the DeviceDepth layout.
         const std::size_t columns = depth.layout == SampleLayout::side_by_side ? depth.width * samples : depth.width;
         const cl::array<cl::size_type, 3> origin{0, 0, 0};
-        const cl::array<cl::size_type, 3> region{columns, static_cast<std::size_t>(depth.height), 1};
+        const cl::array<cl::size_type, 3> region{columns, static_cast<std::size_t>(depth.height), maps};
         cl_event event = nullptr;
         detail::check(clEnqueueCopyImageToBuffer(queue(), depth.image, buffer(), origin.data(), region.data(), 0,
                                                  static_cast<cl_uint>(raw_waits.size()), wait_data, &event),
                       "clEnqueueCopyImageToBuffer(depth)");
         staged = cl::Event(event);
-        return DeviceDepth{buffer(), depth.width, depth.height, depth.samples};
+        return DeviceDepth{buffer(), depth.width, depth.height, depth.samples, depth.layers};
     }
     // Layers: the S planes into a buffer, then interleaved per texel.
-    cl::Buffer planes = device_only_buffer(impl, texels * samples * sizeof(float), "depth planes");
+    cl::Buffer planes = device_only_buffer(impl, texels * samples * maps * sizeof(float), "depth planes");
     const cl::array<cl::size_type, 3> origin{0, 0, 0};
     const cl::array<cl::size_type, 3> region{static_cast<std::size_t>(depth.width),
-                                             static_cast<std::size_t>(depth.height), samples};
+                                             static_cast<std::size_t>(depth.height), samples * maps};
     cl_event copied = nullptr;
     detail::check(clEnqueueCopyImageToBuffer(queue(), depth.image, planes(), origin.data(), region.data(), 0,
                                              static_cast<cl_uint>(raw_waits.size()), wait_data, &copied),
@@ -175,19 +192,22 @@ DeviceDepth stage_depth_image(detail::ContextImpl& impl, const cl::CommandQueue&
     detail::set_arg(interleave, 2, static_cast<cl_uint>(samples));
     detail::set_arg(interleave, 3, buffer);
     const std::size_t group = 64;
-    detail::check(queue.enqueueNDRangeKernel(interleave, cl::NullRange, cl::NDRange((texels + group - 1) / group * group),
-                                             cl::NDRange(group), &after_copy, &staged),
+    // One row of work-items per map.
+    detail::check(queue.enqueueNDRangeKernel(interleave, cl::NullRange,
+                                             cl::NDRange((texels + group - 1) / group * group, maps),
+                                             cl::NDRange(group, 1), &after_copy, &staged),
                   "clEnqueueNDRangeKernel(depth_interleave_layers)");
     // `planes` is released here; OpenCL keeps it until the kernel is done.
-    return DeviceDepth{buffer(), depth.width, depth.height, depth.samples};
+    return DeviceDepth{buffer(), depth.width, depth.height, depth.samples, depth.layers};
 }
 
 // Copies width x height texels from a buffer (rows packed) into the top-left of `image`
 // after `after`; returns the copy's event.
 cl::Event copy_buffer_to_image(const cl::CommandQueue& queue, const cl::Buffer& buffer, cl_mem image, int width,
-                               int height, const cl::Event& after) {
+                               int height, int layers, const cl::Event& after) {
     const cl::array<cl::size_type, 3> origin{0, 0, 0};
-    const cl::array<cl::size_type, 3> region{static_cast<std::size_t>(width), static_cast<std::size_t>(height), 1};
+    const cl::array<cl::size_type, 3> region{static_cast<std::size_t>(width), static_cast<std::size_t>(height),
+                                             static_cast<std::size_t>(layers)};
     cl_event wait = after();
     cl_event event = nullptr;
     detail::check(clEnqueueCopyBufferToImage(queue(), buffer(), image, 0, origin.data(), region.data(), 1, &wait, &event),
@@ -205,20 +225,20 @@ Enqueue inner_enqueue(const cl::CommandQueue& queue, const std::vector<cl::Event
 }
 
 // Output image checks of a texture format.
-void check_texture_image(detail::ContextImpl& impl, cl_mem image, Format format, int width, int height,
+void check_texture_image(detail::ContextImpl& impl, cl_mem image, Format format, int width, int height, int layers,
                          const char* call) {
     const ImageShape shape = describe_image(image, impl.context(), call, "output image");
     std::string expected = format_text(texture_image_format(format));
     if (format == Format::msm64 || format == Format::nlq64) expected += " or CL_RGBA/CL_UNSIGNED_INT16";
-    check_output_image(shape, image_format_matches(format, shape.format), expected, width, height, call);
+    check_output_image(shape, image_format_matches(format, shape.format), expected, width, height, layers, call);
 }
 
-void check_sat_image(detail::ContextImpl& impl, cl_mem image, int width, int height, const char* call) {
+void check_sat_image(detail::ContextImpl& impl, cl_mem image, int width, int height, int layers, const char* call) {
     const ImageShape shape = describe_image(image, impl.context(), call, "output image");
     const cl_image_format wanted = sat_image_format();
     const bool format_ok = shape.format.image_channel_order == wanted.image_channel_order &&
                            shape.format.image_channel_data_type == wanted.image_channel_data_type;
-    check_output_image(shape, format_ok, format_text(wanted), width, height, call);
+    check_output_image(shape, format_ok, format_text(wanted), width, height, layers, call);
 }
 
 // The inner operation a call wraps: writes `output` (a buffer) from `depth`, after the
@@ -229,12 +249,14 @@ void run_into_image(Context& context, const DeviceDepth& depth, cl_mem image, st
     detail::ContextImpl& impl = context.impl();
     const cl::CommandQueue queue = impl.queue_for(enqueue);
     // The texture or table in a staging buffer, then one copy into the image.
-    cl::Buffer output = device_only_buffer(impl, static_cast<std::size_t>(depth.width) * depth.height * texel_bytes,
-                                           "staged output");
+    cl::Buffer output = device_only_buffer(
+        impl, static_cast<std::size_t>(depth.width) * depth.height * texel_bytes * static_cast<std::size_t>(depth.layers),
+        "staged output");
     cl_event computed = nullptr;
     operation(depth, output(), inner_enqueue(queue, detail::wait_list(enqueue), &computed));
     const cl::Event computed_event(computed); // takes the reference the inner call handed over
-    const cl::Event copied = copy_buffer_to_image(queue, output, image, depth.width, depth.height, computed_event);
+    const cl::Event copied =
+        copy_buffer_to_image(queue, output, image, depth.width, depth.height, depth.layers, computed_event);
     detail::complete(enqueue, queue, copied);
 }
 
@@ -295,14 +317,15 @@ cl_image_format sat_image_format() noexcept { return cl_image_format{CL_RGBA, CL
 
 void filter_to_image(Context& context, const DeviceDepth& depth, cl_mem image, const FilterOptions& options,
                      const Enqueue& enqueue) {
-    check_texture_image(context.impl(), image, options.format, depth.width, depth.height, "filter");
+    detail::validate_array_layers("filter", depth.layers);
+    check_texture_image(context.impl(), image, options.format, depth.width, depth.height, depth.layers, "filter");
     run_into_image(context, depth, image, texel_bytes(options.format), enqueue, filter_operation(context, options));
 }
 
 void filter_to_image(Context& context, const DeviceDepthImage& depth, cl_mem image, const FilterOptions& options,
                      const Enqueue& enqueue) {
     check_depth_image(depth, context.impl().context(), "filter");
-    check_texture_image(context.impl(), image, options.format, depth.width, depth.height, "filter");
+    check_texture_image(context.impl(), image, options.format, depth.width, depth.height, depth.layers, "filter");
     gaussian_taps(options.sigma); // a bad sigma throws before anything is enqueued
     run_from_depth_image(context, depth, image, texel_bytes(options.format), true, enqueue,
                          filter_operation(context, options));
@@ -319,14 +342,15 @@ void filter(Context& context, const DeviceDepthImage& depth, cl_mem texture, con
 
 void build_sat_to_image(Context& context, const DeviceDepth& depth, cl_mem image, const SatOptions& options,
                         const Enqueue& enqueue) {
-    check_sat_image(context.impl(), image, depth.width, depth.height, "sat");
+    detail::validate_array_layers("sat", depth.layers);
+    check_sat_image(context.impl(), image, depth.width, depth.height, depth.layers, "sat");
     run_into_image(context, depth, image, kSatTexelBytes, enqueue, sat_operation(context, options));
 }
 
 void build_sat_to_image(Context& context, const DeviceDepthImage& depth, cl_mem image, const SatOptions& options,
                         const Enqueue& enqueue) {
     check_depth_image(depth, context.impl().context(), "sat");
-    check_sat_image(context.impl(), image, depth.width, depth.height, "sat");
+    check_sat_image(context.impl(), image, depth.width, depth.height, depth.layers, "sat");
     sat_scale(options.max_kernel_texels); // a bad N throws before anything is enqueued
     run_from_depth_image(context, depth, image, kSatTexelBytes, true, enqueue, sat_operation(context, options));
 }

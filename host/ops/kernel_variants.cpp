@@ -101,6 +101,24 @@ std::vector<KernelVariant> kernel_variants(bool full) {
                              {"filter_fused_cpu_border", on_gpu(FilterKernel::fused_cpu)}},
                             "fused_cpu " + variant_note(Format::nlq64, 4, DepthRange::zero_one, max_translucent_layers)});
     }
+    // Texture arrays (MSM_ARRAY): the layer-slicing programs, opaque and translucent.
+    for (Format format : {Format::msm64, Format::nlq64}) {
+        for (int layers : {0, 1}) {
+            variants.push_back({"filter", "filter_fused_gpu.cl",
+                                filter_defines(4, format, DepthRange::zero_one, layers, true),
+                                {{"filter_fused_gpu", on_gpu(FilterKernel::fused_paper)}},
+                                "fused_paper array " + variant_note(format, 4, DepthRange::zero_one, layers)});
+        }
+        variants.push_back({"filter", "filter_three_pass.cl", filter_defines(4, format, DepthRange::zero_one, 0, true),
+                            {{"filter_resolve", on_gpu(FilterKernel::three_pass)},
+                             {"filter_horizontal", on_gpu(FilterKernel::three_pass)},
+                             {"filter_vertical_quantize", on_gpu(FilterKernel::three_pass)}},
+                            "three_pass array " + variant_note(format, 4, DepthRange::zero_one, 0)});
+        variants.push_back({"filter", "filter_fused_cpu.cl", filter_cpu_defines(4, format, DepthRange::zero_one, 0, true),
+                            {{"filter_fused_cpu_interior", on_gpu(FilterKernel::fused_cpu)},
+                             {"filter_fused_cpu_border", on_gpu(FilterKernel::fused_cpu)}},
+                            "fused_cpu array " + variant_note(format, 4, DepthRange::zero_one, 0)});
+    }
     // Depth upload from images or planes (interop).
     variants.push_back({"interop", "interop.cl", {}, {{"depth_interleave_layers", true}}, ""});
 
@@ -149,6 +167,25 @@ std::vector<KernelVariant> kernel_variants(bool full) {
                             "S=" + std::to_string(v.samples) + " " + range_text(v.range) + ", " +
                                 std::to_string(v.layers) + " layers"});
     }
+    // Texture arrays (MSM_ARRAY): every build program once.
+    variants.push_back({"sat", "sat_build.cl",
+                        sat_build_defines(true, 4, DepthRange::zero_one, SatKernel::tiled_gpu, false, true),
+                        {{"sat_tile_totals", sat_on_gpu(SatKernel::tiled_gpu)},
+                         {"sat_tile_scan", sat_on_gpu(SatKernel::tiled_gpu)},
+                         {"sat_rows_per_thread", sat_on_gpu(SatKernel::row_per_thread)},
+                         {"sat_columns_per_thread", sat_on_gpu(SatKernel::row_per_thread)}},
+                        "array, tiled_gpu, row_per_thread " + sat_note(4, DepthRange::zero_one)});
+    variants.push_back({"sat", "sat_build_cpu.cl",
+                        sat_build_defines(true, 4, DepthRange::zero_one, SatKernel::tiled_cpu, false, true),
+                        {{"sat_band_totals_cpu", sat_on_gpu(SatKernel::tiled_cpu)},
+                         {"sat_band_totals_texels_cpu", sat_on_gpu(SatKernel::tiled_cpu)},
+                         {"sat_band_scan_cpu", sat_on_gpu(SatKernel::tiled_cpu)}},
+                        "array, tiled_cpu " + sat_note(4, DepthRange::zero_one)});
+    variants.push_back({"sat", "sat_carries.cl", sat_carries_defines(true),
+                        {{"sat_column_carries", true}, {"sat_row_carries", true}, {"sat_corner_carries", true}},
+                        "array"});
+    variants.push_back({"sat", "sat_translucent.cl", sat_translucent_defines(4, 1, DepthRange::zero_one, true),
+                        {{"sat_translucent_texels", true}}, "array, S=4 d 0..1, 1 layers"});
     variants.push_back({"sat", "sat_query.cl", {}, {{"sat_query_moments", true}}, ""});
 
     // soft shadows, shade.

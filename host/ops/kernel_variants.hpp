@@ -19,10 +19,12 @@ namespace msmcl::detail {
 // --- filter (host/ops/filter.cpp)
 /// The kernel `requested` resolves to on `device` (automatic decides by the device).
 FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested);
-/// Defines of filter_fused_gpu.cl and filter_three_pass.cl.
-std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers);
+/// Defines of filter_fused_gpu.cl and filter_three_pass.cl; `array`: the texture-array
+/// program (MSM_ARRAY, one launch for every layer of a layered depth map).
+std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array = false);
 /// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE).
-std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers);
+std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers,
+                                            bool array = false);
 
 // --- sat (host/ops/sat.cpp)
 /// The distribution `requested` resolves to on `device`.
@@ -30,9 +32,11 @@ SatKernel sat_kernel_for(const DeviceInfo& device, SatKernel requested);
 /// Defines of sat_build.cl / sat_build_cpu.cl: a depth map (`is_depth`) or ready integer
 /// texels; `step1_texels`: the texels step 1 of the CPU build leaves in the table.
 std::vector<std::string> sat_build_defines(bool is_depth, int samples, DepthRange range, SatKernel kernel,
-                                           bool step1_texels = false);
+                                           bool step1_texels = false, bool array = false);
 /// Defines of sat_translucent.cl.
-std::vector<std::string> sat_translucent_defines(int samples, int layers, DepthRange range);
+std::vector<std::string> sat_translucent_defines(int samples, int layers, DepthRange range, bool array = false);
+/// Defines of sat_carries.cl.
+std::vector<std::string> sat_carries_defines(bool array = false);
 
 // --- shade (host/ops/shade.cpp), soft (host/ops/soft.cpp), scatter (host/ops/scatter.cpp)
 std::vector<std::string> shade_defines(Format format, Lookup lookup, DepthRange range, bool receiver_pixels);

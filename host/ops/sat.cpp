@@ -43,6 +43,11 @@ void validate_table_shape(const char* call, int width, int height) {
     detail::validate_map_size(std::string(call) + ": size", width, height);
 }
 
+// ", 4 array layers" for texture arrays, nothing for one map.
+std::string layers_text(int layers) {
+    return layers == 1 ? std::string() : ", " + std::to_string(layers) + " array layers";
+}
+
 void validate_samples(int samples) {
     if (!is_supported_sample_count(samples))
         throw input_error("sat: unsupported sample count " + std::to_string(samples) + " (supported: 1, 2, 4, 8, 16)");
@@ -69,12 +74,14 @@ struct SatSource {
     int samples = 1;
     DepthRange depth_range = DepthRange::zero_one;
     std::uint32_t scale = 0;
+    int layers = 1; // array layers (texture arrays): every buffer holds layer after layer
 };
 
 // Compile-time variant: input kind, sample count, depth convention, tile or band size.
 // `step1_texels`: ready texels in the layout step 1 of the CPU build leaves (MSM_SAT_SOURCE 2).
 std::vector<std::string> build_defines(const SatSource& source, SatKernel kernel, bool step1_texels = false) {
-    return detail::sat_build_defines(source.is_depth, source.samples, source.depth_range, kernel, step1_texels);
+    return detail::sat_build_defines(source.is_depth, source.samples, source.depth_range, kernel, step1_texels,
+                                     source.layers > 1);
 }
 
 cl::Buffer scratch_buffer(detail::ContextImpl& impl, std::size_t words, const char* what) {
@@ -84,10 +91,19 @@ cl::Buffer scratch_buffer(detail::ContextImpl& impl, std::size_t words, const ch
     return buffer;
 }
 
+// `range` (1D or 2D) with the array layers as a third dimension (`fill` in it: the layer
+// count for the global range, 1 for a work-group); unchanged for one map or no range.
+cl::NDRange over_layers(const cl::NDRange& range, int layers, std::size_t fill) {
+    if (layers == 1 || range.dimensions() == 0) return range;
+    return cl::NDRange(range.get()[0], range.dimensions() > 1 ? range.get()[1] : 1, fill);
+}
+
+// One launch of `kernel` over every array layer of `layers`.
 void launch(const cl::CommandQueue& queue, cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local,
-            const std::vector<cl::Event>& waits, cl::Event& done, const char* call) {
-    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, global, local, waits.empty() ? nullptr : &waits,
-                                             &done),
+            const std::vector<cl::Event>& waits, cl::Event& done, const char* call, int layers = 1) {
+    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange,
+                                             over_layers(global, layers, static_cast<std::size_t>(layers)),
+                                             over_layers(local, layers, 1), waits.empty() ? nullptr : &waits, &done),
                   call);
 }
 
@@ -109,14 +125,14 @@ cl::Event enqueue_rows_per_thread(detail::ContextImpl& impl, const cl::CommandQu
     detail::set_arg(rows, 4, table);
     cl::Event rows_done;
     launch(queue, rows, cl::NDRange(static_cast<std::size_t>(height)), cl::NullRange, waits, rows_done,
-           "clEnqueueNDRangeKernel(sat_rows_per_thread)");
+           "clEnqueueNDRangeKernel(sat_rows_per_thread)", what.layers);
     cl::Kernel& columns = impl.kernel("sat_build.cl", defines, "sat_columns_per_thread");
     detail::set_arg(columns, 0, table);
     detail::set_arg(columns, 1, static_cast<cl_int>(width));
     detail::set_arg(columns, 2, static_cast<cl_int>(height));
     cl::Event last;
     launch(queue, columns, cl::NDRange(static_cast<std::size_t>(width)), cl::NullRange, {rows_done}, last,
-           "clEnqueueNDRangeKernel(sat_columns_per_thread)");
+           "clEnqueueNDRangeKernel(sat_columns_per_thread)", what.layers);
     return last;
 }
 
@@ -129,7 +145,7 @@ cl::Event enqueue_band_scan(detail::ContextImpl& impl, const cl::CommandQueue& q
     const int bands = (height + kCpuBandHeight - 1) / kCpuBandHeight;
     const int padded_width = (width + kCpuLanes - 1) / kCpuLanes * kCpuLanes;
     const char* const carries_scratch = "sat band totals";
-    cl::Buffer column_carries = impl.scratch(carries_scratch, 16 * texel_count(padded_width, bands), waits);
+    cl::Buffer column_carries = impl.scratch(carries_scratch, 16 * texel_count(padded_width, bands) * what.layers, waits);
     // Groups of one work-item: the bands share nothing, and a fixed size means one
     // compilation for every map size.
     const cl::NDRange band_grid(static_cast<std::size_t>(bands));
@@ -146,16 +162,18 @@ cl::Event enqueue_band_scan(detail::ContextImpl& impl, const cl::CommandQueue& q
     detail::set_arg(totals, 4, column_carries);
     if (texel_pass) detail::set_arg(totals, 5, table);
     cl::Event totals_done;
-    launch(queue, totals, band_grid, one_item, waits, totals_done, "clEnqueueNDRangeKernel(sat_band_totals_cpu)");
+    launch(queue, totals, band_grid, one_item, waits, totals_done, "clEnqueueNDRangeKernel(sat_band_totals_cpu)",
+           what.layers);
 
     // 2. Down the bands: the sums of each column above every band, in place.
-    cl::Kernel& carries = impl.kernel("sat_carries.cl", {}, "sat_column_carries");
+    cl::Kernel& carries = impl.kernel("sat_carries.cl", detail::sat_carries_defines(what.layers > 1),
+                                      "sat_column_carries");
     detail::set_arg(carries, 0, column_carries);
     detail::set_arg(carries, 1, static_cast<cl_int>(padded_width));
     detail::set_arg(carries, 2, static_cast<cl_int>(bands));
     cl::Event carries_done;
     launch(queue, carries, cl::NDRange(static_cast<std::size_t>(padded_width)), cl::NullRange, {totals_done},
-           carries_done, "clEnqueueNDRangeKernel(sat_column_carries)");
+           carries_done, "clEnqueueNDRangeKernel(sat_column_carries)", what.layers);
 
     // 3. Each band scanned from its carries, written once.
     SatSource texels = what;
@@ -167,7 +185,8 @@ cl::Event enqueue_band_scan(detail::ContextImpl& impl, const cl::CommandQueue& q
     detail::set_arg(scan, 4, column_carries);
     detail::set_arg(scan, 5, table);
     cl::Event last;
-    launch(queue, scan, band_grid, one_item, {carries_done}, last, "clEnqueueNDRangeKernel(sat_band_scan_cpu)");
+    launch(queue, scan, band_grid, one_item, {carries_done}, last, "clEnqueueNDRangeKernel(sat_band_scan_cpu)",
+           what.layers);
     impl.scratch_used(carries_scratch, last);
     return last;
 }
@@ -184,10 +203,13 @@ cl::Event enqueue_tiled_gpu(detail::ContextImpl& impl, const cl::CommandQueue& q
     const int padded_height = tiles_y * kGpuTile;
     const char* const scratch_names[] = {"sat column carries", "sat row carries", "sat tile totals",
                                          "sat corner carries"};
-    cl::Buffer column_carries = impl.scratch(scratch_names[0], 16 * texel_count(padded_width, tiles_y), waits);
-    cl::Buffer row_carries = impl.scratch(scratch_names[1], 16 * texel_count(tiles_x, padded_height), waits);
-    cl::Buffer tile_totals = impl.scratch(scratch_names[2], 16 * texel_count(tiles_x, tiles_y), waits);
-    cl::Buffer corner_carries = impl.scratch(scratch_names[3], 16 * texel_count(tiles_x, tiles_y), waits);
+    // Carries of every array layer, layer after layer.
+    const std::size_t layers = static_cast<std::size_t>(what.layers);
+    cl::Buffer column_carries = impl.scratch(scratch_names[0], 16 * texel_count(padded_width, tiles_y) * layers, waits);
+    cl::Buffer row_carries = impl.scratch(scratch_names[1], 16 * texel_count(tiles_x, padded_height) * layers, waits);
+    cl::Buffer tile_totals = impl.scratch(scratch_names[2], 16 * texel_count(tiles_x, tiles_y) * layers, waits);
+    cl::Buffer corner_carries = impl.scratch(scratch_names[3], 16 * texel_count(tiles_x, tiles_y) * layers, waits);
+    const std::vector<std::string> carries_defines = detail::sat_carries_defines(what.layers > 1);
     const cl::NDRange tile_grid(static_cast<std::size_t>(padded_width), static_cast<std::size_t>(tiles_y));
     const cl::NDRange tile_group(static_cast<std::size_t>(kGpuTile), 1);
 
@@ -204,32 +226,33 @@ cl::Event enqueue_tiled_gpu(detail::ContextImpl& impl, const cl::CommandQueue& q
     detail::set_arg(totals, 5, row_carries);
     detail::set_arg(totals, 6, tile_totals);
     cl::Event totals_done;
-    launch(queue, totals, tile_grid, tile_group, waits, totals_done, "clEnqueueNDRangeKernel(sat_tile_totals)");
+    launch(queue, totals, tile_grid, tile_group, waits, totals_done, "clEnqueueNDRangeKernel(sat_tile_totals)",
+           what.layers);
 
     // 2. Carries across tiles: columns, rows, corners (independent of each other).
     const std::vector<cl::Event> after_totals{totals_done};
-    cl::Kernel& columns = impl.kernel("sat_carries.cl", {}, "sat_column_carries");
+    cl::Kernel& columns = impl.kernel("sat_carries.cl", carries_defines, "sat_column_carries");
     detail::set_arg(columns, 0, column_carries);
     detail::set_arg(columns, 1, static_cast<cl_int>(padded_width));
     detail::set_arg(columns, 2, static_cast<cl_int>(tiles_y));
     cl::Event columns_done;
     launch(queue, columns, cl::NDRange(static_cast<std::size_t>(padded_width)), cl::NullRange, after_totals,
-           columns_done, "clEnqueueNDRangeKernel(sat_column_carries)");
-    cl::Kernel& rows = impl.kernel("sat_carries.cl", {}, "sat_row_carries");
+           columns_done, "clEnqueueNDRangeKernel(sat_column_carries)", what.layers);
+    cl::Kernel& rows = impl.kernel("sat_carries.cl", carries_defines, "sat_row_carries");
     detail::set_arg(rows, 0, row_carries);
     detail::set_arg(rows, 1, static_cast<cl_int>(padded_height));
     detail::set_arg(rows, 2, static_cast<cl_int>(tiles_x));
     cl::Event rows_done;
     launch(queue, rows, cl::NDRange(static_cast<std::size_t>(padded_height)), cl::NullRange, after_totals, rows_done,
-           "clEnqueueNDRangeKernel(sat_row_carries)");
-    cl::Kernel& corners = impl.kernel("sat_carries.cl", {}, "sat_corner_carries");
+           "clEnqueueNDRangeKernel(sat_row_carries)", what.layers);
+    cl::Kernel& corners = impl.kernel("sat_carries.cl", carries_defines, "sat_corner_carries");
     detail::set_arg(corners, 0, tile_totals);
     detail::set_arg(corners, 1, static_cast<cl_int>(tiles_x));
     detail::set_arg(corners, 2, static_cast<cl_int>(tiles_y));
     detail::set_arg(corners, 3, corner_carries);
     cl::Event corners_done;
     launch(queue, corners, cl::NDRange(static_cast<std::size_t>(tiles_x)), cl::NullRange, after_totals, corners_done,
-           "clEnqueueNDRangeKernel(sat_corner_carries)");
+           "clEnqueueNDRangeKernel(sat_corner_carries)", what.layers);
 
     // 3. Each tile scanned from its carries, written once.
     cl::Kernel& tile_scan = impl.kernel("sat_build.cl", defines, "sat_tile_scan");
@@ -240,7 +263,7 @@ cl::Event enqueue_tiled_gpu(detail::ContextImpl& impl, const cl::CommandQueue& q
     detail::set_arg(tile_scan, 7, table);
     cl::Event last;
     launch(queue, tile_scan, tile_grid, tile_group, {columns_done, rows_done, corners_done}, last,
-           "clEnqueueNDRangeKernel(sat_tile_scan)");
+           "clEnqueueNDRangeKernel(sat_tile_scan)", what.layers);
     for (const char* name : scratch_names) impl.scratch_used(name, last);
     return last;
 }
@@ -250,7 +273,8 @@ cl::Event enqueue_tiled_gpu(detail::ContextImpl& impl, const cl::CommandQueue& q
 cl::Event enqueue_build(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
                         const cl::Buffer& source, const SatSource& what, int width, int height,
                         const cl::Buffer& table, SatKernel kernel) {
-    validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " table");
+    validate_device_bytes(impl.info, 16ull * texel_count(width, height) * what.layers,
+                          "the " + size_text(width, height) + " table" + layers_text(what.layers));
     // Scratch held by this call is released even when an enqueue throws.
     const detail::ContextImpl::ScratchSession scratch_session(impl);
     switch (kernel) {
@@ -268,10 +292,12 @@ cl::Event enqueue_translucent_build(detail::ContextImpl& impl, const cl::Command
                                     const cl::Buffer& layer_depth, const cl::Buffer& layer_opacity, int layers,
                                     const SatSource& what, int width, int height, const cl::Buffer& table,
                                     SatKernel kernel) {
-    validate_device_bytes(impl.info, 16ull * texel_count(width, height), "the " + size_text(width, height) + " texels");
-    cl::Buffer texels = scratch_buffer(impl, 4 * texel_count(width, height), "clCreateBuffer(sat translucent texels)");
+    validate_device_bytes(impl.info, 16ull * texel_count(width, height) * what.layers,
+                          "the " + size_text(width, height) + " texels" + layers_text(what.layers));
+    cl::Buffer texels = scratch_buffer(impl, 4 * texel_count(width, height) * what.layers,
+                                       "clCreateBuffer(sat translucent texels)");
     cl::Kernel& composite = impl.kernel(
-        "sat_translucent.cl", detail::sat_translucent_defines(what.samples, layers, what.depth_range),
+        "sat_translucent.cl", detail::sat_translucent_defines(what.samples, layers, what.depth_range, what.layers > 1),
         "sat_translucent_texels");
     detail::set_arg(composite, 0, depth);
     detail::set_arg(composite, 1, layer_depth);
@@ -282,10 +308,10 @@ cl::Event enqueue_translucent_build(detail::ContextImpl& impl, const cl::Command
     detail::set_arg(composite, 6, texels);
     cl::Event composited;
     launch(queue, composite, cl::NDRange(static_cast<std::size_t>(width), static_cast<std::size_t>(height)),
-           cl::NullRange, waits, composited, "clEnqueueNDRangeKernel(sat_translucent_texels)");
+           cl::NullRange, waits, composited, "clEnqueueNDRangeKernel(sat_translucent_texels)", what.layers);
     // The texels buffer is released here; OpenCL keeps it until the prefix sums are done.
-    return enqueue_build(impl, queue, {composited}, texels, SatSource{false, 1, DepthRange::zero_one, 0}, width, height,
-                         table, kernel);
+    return enqueue_build(impl, queue, {composited}, texels, SatSource{false, 1, DepthRange::zero_one, 0, what.layers},
+                         width, height, table, kernel);
 }
 
 SatKernel resolve_kernel(const DeviceInfo& device, SatKernel kernel) { return detail::sat_kernel_for(device, kernel); }
@@ -293,6 +319,7 @@ SatKernel resolve_kernel(const DeviceInfo& device, SatKernel kernel) { return de
 // A host table must be what build_sat produces.
 void validate_table(const SatTable& table, const char* call) {
     validate_table_shape(call, table.width, table.height);
+    detail::require_single_layer(call, "the table", table.layers);
     sat_scale(table.max_kernel_texels);
     if (table.scale != msm_sat_scale(table.max_kernel_texels))
         throw input_error(std::string(call) + ": table scale " + std::to_string(table.scale) +
@@ -328,18 +355,28 @@ SatKernel sat_kernel_for(const DeviceInfo& device, SatKernel requested) {
 // Compile-time variant: input kind, sample count, depth convention, tile or band size.
 // `step1_texels`: ready texels in the layout step 1 of the CPU build leaves (MSM_SAT_SOURCE 2).
 std::vector<std::string> sat_build_defines(bool is_depth, int samples, DepthRange range, SatKernel kernel,
-                                           bool step1_texels) {
+                                           bool step1_texels, bool array) {
     const bool zero_one = !is_depth || range == DepthRange::zero_one;
-    return {"MSM_SAT_SOURCE=" + std::string(is_depth ? "0" : step1_texels ? "2" : "1"),
-            "MSM_SAMPLES=" + std::to_string(is_depth ? samples : 1),
-            "MSM_DEPTH_ZERO_ONE=" + std::string(zero_one ? "1" : "0"),
-            kernel == SatKernel::tiled_cpu ? "MSM_SAT_BAND_H=" + std::to_string(kCpuBandHeight)
-                                           : "MSM_SAT_TILE=" + std::to_string(kGpuTile)};
+    std::vector<std::string> defines = {
+        "MSM_SAT_SOURCE=" + std::string(is_depth ? "0" : step1_texels ? "2" : "1"),
+        "MSM_SAMPLES=" + std::to_string(is_depth ? samples : 1),
+        "MSM_DEPTH_ZERO_ONE=" + std::string(zero_one ? "1" : "0"),
+        kernel == SatKernel::tiled_cpu ? "MSM_SAT_BAND_H=" + std::to_string(kCpuBandHeight)
+                                       : "MSM_SAT_TILE=" + std::to_string(kGpuTile)};
+    // Texture arrays: the layer-slicing program (single maps keep the plain one).
+    if (array) defines.push_back("MSM_ARRAY=1");
+    return defines;
 }
 
-std::vector<std::string> sat_translucent_defines(int samples, int layers, DepthRange range) {
-    return {"MSM_SAMPLES=" + std::to_string(samples), "MSM_LAYERS=" + std::to_string(layers),
-            "MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0")};
+std::vector<std::string> sat_translucent_defines(int samples, int layers, DepthRange range, bool array) {
+    std::vector<std::string> defines = {"MSM_SAMPLES=" + std::to_string(samples), "MSM_LAYERS=" + std::to_string(layers),
+                                        "MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0")};
+    if (array) defines.push_back("MSM_ARRAY=1");
+    return defines;
+}
+
+std::vector<std::string> sat_carries_defines(bool array) {
+    return array ? std::vector<std::string>{"MSM_ARRAY=1"} : std::vector<std::string>{};
 }
 
 } // namespace detail
@@ -360,11 +397,13 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
     // Validate everything before touching the device.
     validate_table_shape("sat: depth map", depth.width, depth.height);
     validate_samples(depth.samples);
-    const std::size_t values = texel_count(depth.width, depth.height) * depth.samples;
+    detail::validate_array_layers("sat", depth.layers);
+    const std::size_t layers_in_depth = static_cast<std::size_t>(depth.layers);
+    const std::size_t values = texel_count(depth.width, depth.height) * depth.samples * layers_in_depth;
     if (depth.depth.size() != values)
         throw input_error("sat: depth map " + size_text(depth.width, depth.height) + " with " +
-                          std::to_string(depth.samples) + " samples needs " + std::to_string(values) +
-                          " values, got " + std::to_string(depth.depth.size()));
+                          std::to_string(depth.samples) + " samples" + layers_text(depth.layers) + " needs " +
+                          std::to_string(values) + " values, got " + std::to_string(depth.depth.size()));
     const std::uint32_t scale = sat_scale(options.max_kernel_texels);
     detail::validate_depth_values("sat", depth, options.depth_range);
     detail::validate_layers("sat", depth, layers, options.depth_range);
@@ -372,26 +411,27 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
     validate_device_bytes(impl.info, values * sizeof(float), "the depth buffer");
     validate_device_bytes(impl.info, layers.size() * values * sizeof(float), "the translucent layers");
 
-    // Upload (the layers one after the other), build on the Context's queue, read back.
+    // Upload (the translucent layers one after the other), build on the Context's queue, read back.
     SatTable table;
     table.width = depth.width;
     table.height = depth.height;
     table.max_kernel_texels = options.max_kernel_texels;
     table.scale = scale;
-    table.words.resize(4 * texel_count(depth.width, depth.height));
+    table.layers = depth.layers;
+    table.words.resize(4 * texel_count(depth.width, depth.height) * layers_in_depth);
     const cl::Buffer depth_buffer =
         detail::upload_in_place(impl, depth.depth.data(), values * sizeof(float), "clCreateBuffer(depth)");
     const std::size_t table_bytes = table.words.size() * sizeof(std::uint32_t);
     const cl::Buffer table_buffer =
         detail::result_buffer(impl, table.words.data(), table_bytes, "clCreateBuffer(sat table)");
-    const SatSource source{true, depth.samples, options.depth_range, scale};
+    const SatSource source{true, depth.samples, options.depth_range, scale, depth.layers};
     const SatKernel kernel = resolve_kernel(impl.info, options.kernel);
     cl::Event done;
     if (layers.empty()) {
         done = enqueue_build(impl, impl.queue, {}, depth_buffer, source, depth.width, depth.height, table_buffer, kernel);
     } else {
-        std::vector<float> layer_depth = detail::concatenated_depths(layers);
-        std::vector<float> layer_opacity = detail::concatenated_opacities(layers);
+        std::vector<float> layer_depth = detail::concatenated_depths(layers, depth.layers);
+        std::vector<float> layer_opacity = detail::concatenated_opacities(layers, depth.layers);
         const cl::Buffer depth_layers = detail::upload(impl, layer_depth.data(), layer_depth.size() * sizeof(float),
                                                        "clCreateBuffer(layer depth)");
         const cl::Buffer opacity_layers = detail::upload(impl, layer_opacity.data(),
@@ -414,18 +454,21 @@ void build_sat(Context& context, const DeviceDepth& depth, const DeviceLayers& l
                const SatOptions& options, const Enqueue& enqueue) {
     validate_table_shape("sat: depth map", depth.width, depth.height);
     validate_samples(depth.samples);
+    detail::validate_array_layers("sat", depth.layers);
     detail::validate_layer_count("sat", layers.count);
     const std::uint32_t scale = sat_scale(options.max_kernel_texels);
-    const cl_ulong depth_bytes = texel_count(depth.width, depth.height) * depth.samples * sizeof(float);
+    // The caller's buffers hold every array layer.
+    const cl_ulong array_layers = static_cast<cl_ulong>(depth.layers);
+    const cl_ulong depth_bytes = texel_count(depth.width, depth.height) * depth.samples * sizeof(float) * array_layers;
     require_buffer_bytes(depth.buffer, depth_bytes, "depth");
-    require_buffer_bytes(table, 16ull * texel_count(depth.width, depth.height), "table");
+    require_buffer_bytes(table, 16ull * texel_count(depth.width, depth.height) * array_layers, "table");
     if (layers.count > 0) {
         require_buffer_bytes(layers.depth, depth_bytes * static_cast<cl_ulong>(layers.count), "layer depth");
         require_buffer_bytes(layers.opacity, depth_bytes * static_cast<cl_ulong>(layers.count), "layer opacity");
     }
     detail::ContextImpl& impl = context.impl();
     const cl::CommandQueue queue = impl.queue_for(enqueue);
-    const SatSource source{true, depth.samples, options.depth_range, scale};
+    const SatSource source{true, depth.samples, options.depth_range, scale, depth.layers};
     const SatKernel kernel = resolve_kernel(impl.info, options.kernel);
     const cl::Event last =
         layers.count == 0
@@ -551,6 +594,20 @@ void sat_query_moments(Context& context, const DeviceSat& table, cl_mem rectangl
     launch(queue, kernel, cl::NDRange((count + group - 1) / group * group), cl::NDRange(group), waits, done,
            "clEnqueueNDRangeKernel(sat_query_moments)");
     detail::complete(enqueue, queue, done);
+}
+
+SatTable SatTable::layer(int index) const {
+    if (index < 0 || index >= layers)
+        throw input_error("sat: array layer " + std::to_string(index) + " of a table of " + std::to_string(layers) +
+                          " layers");
+    const std::size_t layer_words = 4 * texel_count(width, height);
+    if (words.size() != layer_words * static_cast<std::size_t>(layers))
+        throw input_error("sat: the table holds " + std::to_string(words.size()) + " words, " +
+                          std::to_string(layers) + " layers need " +
+                          std::to_string(layer_words * static_cast<std::size_t>(layers)));
+    const auto first = words.begin() + static_cast<std::ptrdiff_t>(layer_words * static_cast<std::size_t>(index));
+    return SatTable{width, height, max_kernel_texels, scale,
+                    std::vector<std::uint32_t>(first, first + static_cast<std::ptrdiff_t>(layer_words))};
 }
 
 // The names of SatKernel values, both ways (sat_kernel_name, parse_sat_kernel).

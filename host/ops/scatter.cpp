@@ -408,6 +408,9 @@ void enqueue_over_pixels(detail::ContextImpl& impl, cl::Kernel& kernel, const Sc
 void check_depth_values(const DepthImage& depth, const char* what) {
     if (depth.width <= 0 || depth.height <= 0)
         throw input_error(std::string(what) + ": the shadow map is empty");
+    if (depth.layers != 1)
+        throw input_error(std::string(what) + ": the shadow map is a texture array of " + std::to_string(depth.layers) +
+                          " layers, scattering takes one");
     if (!is_supported_sample_count(depth.samples))
         throw input_error(std::string(what) + ": unsupported sample count " + std::to_string(depth.samples));
     const std::size_t expected = static_cast<std::size_t>(depth.width) * depth.height * depth.samples;

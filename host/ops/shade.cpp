@@ -131,6 +131,7 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
                          const ReceiverPixels& pixels, const ShadeOptions& options) {
     detail::ContextImpl& impl = context.impl();
     check_map_shape(map.format, map.width, map.height, impl);
+    detail::require_single_layer("shade", "the map", map.layers);
     check_options(options);
     const std::size_t texels = static_cast<std::size_t>(map.width) * map.height;
     if (map.words.size() != texels * texel_words(map.format))

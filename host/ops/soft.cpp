@@ -35,6 +35,7 @@ void validate_table_header(int width, int height, std::uint32_t max_kernel_texel
 
 void validate_host_table(const SatTable& table) {
     validate_table_header(table.width, table.height, table.max_kernel_texels);
+    detail::require_single_layer("soft", "the table", table.layers);
     if (table.scale != sat_scale(table.max_kernel_texels))
         throw input_error("soft: table scale " + std::to_string(table.scale) + " does not match N = " +
                           std::to_string(table.max_kernel_texels));

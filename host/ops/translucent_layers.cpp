@@ -33,10 +33,13 @@ void validate_layers(const std::string& call, const DepthImage& depth, const std
             if (depth_ok && opacity_ok) continue;
             // The first bad value: the depth if that is bad, else the opacity.
             const std::size_t texel = i / depth.samples;
+            const std::size_t layer_texels = static_cast<std::size_t>(depth.width) * depth.height;
+            const std::size_t in_layer = texel % layer_texels;
             std::ostringstream text;
             text << call << ": translucent layer " << k << (depth_ok ? " opacity" : " depth") << " at texel ("
-                 << texel % depth.width << ", " << texel / depth.width << ") sample " << i % depth.samples << " is "
-                 << (depth_ok ? a : d);
+                 << in_layer % depth.width << ", " << in_layer / depth.width << ")";
+            if (depth.layers != 1) text << " of array layer " << texel / layer_texels;
+            text << " sample " << i % depth.samples << " is " << (depth_ok ? a : d);
             if (depth_ok) text << ", outside [0, 1]";
             else if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
             throw input_error(text.str());
@@ -44,17 +47,31 @@ void validate_layers(const std::string& call, const DepthImage& depth, const std
     }
 }
 
-std::vector<float> concatenated_depths(const std::vector<TranslucentLayer>& layers) {
-    std::vector<float> values;
-    for (const TranslucentLayer& layer : layers) values.insert(values.end(), layer.depth.begin(), layer.depth.end());
-    return values;
+namespace {
+
+// Array layer after array layer, in each the translucent layers in order (DeviceLayers).
+std::vector<float> interleaved(const std::vector<TranslucentLayer>& layers, int array_layers,
+                               std::vector<float> TranslucentLayer::*values) {
+    std::vector<float> out;
+    if (layers.empty()) return out;
+    const std::size_t slice = (layers.front().*values).size() / static_cast<std::size_t>(array_layers);
+    out.reserve(slice * layers.size() * static_cast<std::size_t>(array_layers));
+    for (std::size_t a = 0; a < static_cast<std::size_t>(array_layers); ++a)
+        for (const TranslucentLayer& layer : layers) {
+            const auto first = (layer.*values).begin() + static_cast<std::ptrdiff_t>(a * slice);
+            out.insert(out.end(), first, first + static_cast<std::ptrdiff_t>(slice));
+        }
+    return out;
 }
 
-std::vector<float> concatenated_opacities(const std::vector<TranslucentLayer>& layers) {
-    std::vector<float> values;
-    for (const TranslucentLayer& layer : layers)
-        values.insert(values.end(), layer.opacity.begin(), layer.opacity.end());
-    return values;
+} // namespace
+
+std::vector<float> concatenated_depths(const std::vector<TranslucentLayer>& layers, int array_layers) {
+    return interleaved(layers, array_layers, &TranslucentLayer::depth);
+}
+
+std::vector<float> concatenated_opacities(const std::vector<TranslucentLayer>& layers, int array_layers) {
+    return interleaved(layers, array_layers, &TranslucentLayer::opacity);
 }
 
 } // namespace msmcl::detail

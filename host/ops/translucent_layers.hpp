@@ -17,8 +17,10 @@ void validate_layer_count(const std::string& call, int count);
 void validate_layers(const std::string& call, const DepthImage& depth, const std::vector<TranslucentLayer>& layers,
                      DepthRange range);
 
-/// The layers' depths (or opacities) one layer after the other, as DeviceLayers holds them.
-std::vector<float> concatenated_depths(const std::vector<TranslucentLayer>& layers);
-std::vector<float> concatenated_opacities(const std::vector<TranslucentLayer>& layers);
+/// The layers' depths (or opacities) one layer after the other, as DeviceLayers holds them;
+/// over a layered depth map (each TranslucentLayer holding `array_layers` slices like the
+/// DepthImage), array layer after array layer, each with its translucent layers in order.
+std::vector<float> concatenated_depths(const std::vector<TranslucentLayer>& layers, int array_layers = 1);
+std::vector<float> concatenated_opacities(const std::vector<TranslucentLayer>& layers, int array_layers = 1);
 
 } // namespace msmcl::detail

@@ -20,17 +20,32 @@ void validate_map_size(const std::string& what, int width, int height) {
                           std::to_string(max_map_side) + " texels per side");
 }
 
+void validate_array_layers(const std::string& call, int layers) {
+    if (layers < 1 || layers > max_array_layers)
+        throw input_error(call + ": " + std::to_string(layers) + " array layers (1 to " +
+                          std::to_string(max_array_layers) + ")");
+}
+
+void require_single_layer(const std::string& call, const char* what, int layers) {
+    if (layers != 1)
+        throw input_error(call + ": " + what + " is a texture array of " + std::to_string(layers) +
+                          " layers, this call takes one (take a layer with layer(i))");
+}
+
 void validate_depth_values(const char* call, const DepthImage& depth, DepthRange range) {
     const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
     // Only the first bad value (if any) is looked at.
     const std::size_t count = depth.depth.size();
     if (const std::size_t i = first_outside(depth.depth.data(), count, lowest, 1.0f); i < count) {
         const float d = depth.depth[i];
-        // Value i is sample i % S of texel i / S.
+        // Value i is sample i % S of texel i / S (counted over the array layers).
         const std::size_t texel = i / depth.samples;
+        const std::size_t layer_texels = texel_count(depth.width, depth.height);
+        const std::size_t in_layer = texel % layer_texels;
         std::ostringstream text;
-        text << call << ": depth at texel (" << texel % depth.width << ", " << texel / depth.width << ") sample "
-             << i % depth.samples << " is " << d;
+        text << call << ": depth at texel (" << in_layer % depth.width << ", " << in_layer / depth.width << ")";
+        if (depth.layers != 1) text << " of array layer " << texel / layer_texels;
+        text << " sample " << i % depth.samples << " is " << d;
         if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
         throw input_error(text.str());
     }

@@ -25,8 +25,17 @@ std::string size_text(int width, int height);
 /// texels per side" (what: "filter: depth map size", "sat: depth map: size", ...).
 void validate_map_size(const std::string& what, int width, int height);
 
+/// Array layers of a texture array call: input_error "<call>: N array layers (1 to 2048)"
+/// outside [1, max_array_layers].
+void validate_array_layers(const std::string& call, int layers);
+
+/// Calls that take one map: input_error "<call>: <what> is a texture array of N layers,
+/// this call takes one (take a layer with layer(i))" for layers != 1.
+void require_single_layer(const std::string& call, const char* what, int layers);
+
 /// The first NaN, Inf or out-of-range depth (row-major, samples in order): input_error
-/// "<call>: depth at texel (x, y) sample s is d[, outside the depth range [r]]".
+/// "<call>: depth at texel (x, y) sample s is d[, outside the depth range [r]]" (with
+/// "of array layer a" after the texel in a layered map).
 void validate_depth_values(const char* call, const DepthImage& depth, DepthRange range);
 
 /// Receivers of a host call: u, v and z of one length, every value finite; input_error

@@ -1,9 +1,11 @@
 // Names and sizes of formats and depth conventions.
 #include "runtime/enum_names.hpp"
 
+#include <msmcl/errors.hpp>
 #include <msmcl/formats.hpp>
 
 #include <cstring>
+#include <string>
 
 namespace msmcl {
 
@@ -43,6 +45,18 @@ float Texture::moment(int x, int y, int j) const {
     float value;
     std::memcpy(&value, texel(x, y) + (j - 1), sizeof value);
     return value;
+}
+
+Texture Texture::layer(int index) const {
+    if (index < 0 || index >= layers)
+        throw input_error("texture: array layer " + std::to_string(index) + " of a texture of " +
+                          std::to_string(layers) + " layers");
+    const std::size_t layer_words = static_cast<std::size_t>(width) * height * texel_words(format);
+    if (words.size() != layer_words * static_cast<std::size_t>(layers))
+        throw input_error("texture: holds " + std::to_string(words.size()) + " words, " + std::to_string(layers) +
+                          " layers need " + std::to_string(layer_words * static_cast<std::size_t>(layers)));
+    const auto first = words.begin() + static_cast<std::ptrdiff_t>(layer_words * static_cast<std::size_t>(index));
+    return Texture{format, width, height, std::vector<std::uint32_t>(first, first + static_cast<std::ptrdiff_t>(layer_words))};
 }
 
 std::uint16_t Texture::code16(int x, int y, int c) const {

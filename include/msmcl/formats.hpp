@@ -42,22 +42,32 @@ inline double to_internal_depth(double d, DepthRange range) noexcept {
     return range == DepthRange::zero_one ? 2.0 * d - 1.0 : d;
 }
 
-/// A (multisampled) depth map in host memory.
-/// Layout: texel-major, the S samples of a texel contiguous:
-/// `depth[(y * width + x) * samples + s]`, rows top to bottom.
+/// Most layers of a texture array (filter and build_sat of a layered depth map): the least
+/// any OpenCL 1.2 device supports for image arrays (CL_DEVICE_IMAGE_MAX_ARRAY_SIZE).
+inline constexpr int max_array_layers = 2048;
+
+/// A (multisampled) depth map in host memory, or `layers` of them of one size: the layers
+/// of a texture array (the cascades of a cascaded shadow map, the maps of several lights;
+/// docs/formats.md, "Texture arrays"). These are array layers, not the translucent layers
+/// of TranslucentLayer.
+/// Layout: layer after layer; in each, texel-major, the S samples of a texel contiguous:
+/// `depth[((layer * height + y) * width + x) * samples + s]`, rows top to bottom.
 struct DepthImage {
     int width = 0;
     int height = 0;
     int samples = 1; ///< 1, 2, 4, 8 or 16
     std::vector<float> depth;
+    int layers = 1; ///< array layers in `depth`, 1 .. max_array_layers
 
-    float at(int x, int y, int s = 0) const {
-        return depth[(static_cast<std::size_t>(y) * width + x) * samples + s];
+    float at(int x, int y, int s = 0, int layer = 0) const {
+        return depth[((static_cast<std::size_t>(layer) * height + y) * width + x) * samples + s];
     }
 };
 
-/// A filtered moment shadow map in host memory, exactly the bytes of the device texture.
-/// Layout: row-major, texel_words(format) little-endian 32-bit words per texel.
+/// A filtered moment shadow map in host memory, exactly the bytes of the device texture,
+/// or a texture array of `layers` such maps (filter of a layered DepthImage).
+/// Layout: layer after layer; in each, row-major, texel_words(format) little-endian 32-bit
+/// words per texel.
 ///  - moments128: words are the float32 bits of b1, b2, b3, b4;
 ///  - msm64/nlq64: four uint16 codes, channel 0 in the low half of word 0,
 ///    channel 1 in its high half, channels 2 and 3 likewise in word 1;
@@ -67,10 +77,13 @@ struct Texture {
     int width = 0;
     int height = 0;
     std::vector<std::uint32_t> words;
+    int layers = 1; ///< array layers in `words`
 
-    const std::uint32_t* texel(int x, int y) const {
-        return words.data() + (static_cast<std::size_t>(y) * width + x) * texel_words(format);
+    const std::uint32_t* texel(int x, int y, int layer = 0) const {
+        return words.data() + ((static_cast<std::size_t>(layer) * height + y) * width + x) * texel_words(format);
     }
+    /// Array layer `index` (0 .. layers - 1) as a texture of its own.
+    Texture layer(int index) const;
     /// moments128 only: moment b_j, j in 1..4.
     float moment(int x, int y, int j) const;
     /// msm64/nlq64 only: the 16-bit code of channel c in 0..3.

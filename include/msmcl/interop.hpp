@@ -34,12 +34,17 @@ enum class SampleLayout {
 /// values as rendered (DepthRange). The image may be larger than the map: the top-left
 /// width x height texels (times S, see SampleLayout) are read. Values are not validated,
 /// as for DeviceDepth: out-of-range depths clamp to the range, NaN counts as the near plane.
+/// Texture arrays (`layers` > 1, N maps of one size, docs/formats.md): a 2D image array
+/// whose array layer a holds map a (side_by_side), or whose array layer a * S + s holds
+/// sample s of map a (SampleLayout::layers); the output image, if any, is then a 2D image
+/// array of at least N layers, map a in its layer a.
 struct DeviceDepthImage {
     cl_mem image = nullptr;
     int width = 0;
     int height = 0;
     int samples = 1; ///< 1, 2, 4, 8 or 16
     SampleLayout layout = SampleLayout::side_by_side;
+    int layers = 1; ///< array layers (maps), 1 .. max_array_layers
 };
 
 /// The natural OpenCL image format of a texture:

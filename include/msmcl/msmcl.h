@@ -364,6 +364,35 @@ MSMCL_C_API msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t
                                           uint32_t max_kernel_texels, const float* u, const float* v, const float* z,
                                           size_t count, const msmcl_soft_options* options, float* intensity);
 
+/* ---- Texture arrays: `layers` maps of one size in one call (the cascades of a cascaded
+ * shadow map, the maps of several lights; docs/formats.md, "Texture arrays"). Every
+ * buffer holds layer after layer, each laid out as for one map; the result equals
+ * `layers` single-map calls bit for bit. */
+
+/* Most array layers one call takes. */
+#define MSMCL_MAX_ARRAY_LAYERS 2048
+
+/* msmcl_filter of `layers` depth maps: `depth` holds layers * width * height * samples
+ * floats, `texture` receives layers * width * height * msmcl_texel_bytes(format) bytes. */
+MSMCL_C_API msmcl_status msmcl_filter_array(msmcl_context* context, const float* depth, int width, int height,
+                                            int samples, int layers, const msmcl_filter_options* options,
+                                            void* texture, size_t texture_bytes);
+/* Device version, one launch for all layers. `depth->memory` is a buffer (layer after
+ * layer) or a 2D image array: map a in array layer a (side by side), or sample s of map a
+ * in array layer a * samples + s (MSMCL_SAMPLE_LAYOUT_LAYERS); `texture` a buffer or a 2D
+ * image array of at least `layers` layers. `options` and `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_filter_array_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                                   int layers, cl_mem texture, const msmcl_filter_options* options,
+                                                   const msmcl_enqueue* enqueue);
+/* msmcl_build_sat of `layers` depth maps: `table` receives 4 * layers * width * height uint32. */
+MSMCL_C_API msmcl_status msmcl_build_sat_array(msmcl_context* context, const float* depth, int width, int height,
+                                               int samples, int layers, const msmcl_sat_options* options,
+                                               uint32_t* table, size_t table_words);
+/* Device version: buffers or image arrays, as msmcl_filter_array_device. */
+MSMCL_C_API msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                                      int layers, cl_mem table, const msmcl_sat_options* options,
+                                                      const msmcl_enqueue* enqueue);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -18,12 +18,14 @@ namespace msmcl {
 
 // ---- Depth maps (filter, build_sat)
 
-/// A depth map already on the device: a buffer of float, layout as DepthImage.
+/// A depth map already on the device: a buffer of float, layout as DepthImage (`layers`
+/// array layers, one after the other).
 struct DeviceDepth {
     cl_mem buffer = nullptr;
     int width = 0;
     int height = 0;
     int samples = 1;
+    int layers = 1; ///< array layers (texture arrays), 1 .. max_array_layers
 };
 
 /// Most translucent layers one call composites.
@@ -42,7 +44,9 @@ struct TranslucentLayer {
 
 /// Translucent layers already on the device: `depth` and `opacity` each hold
 /// count * width * height * samples floats, layer after layer, each layer laid out as
-/// DeviceDepth. count 0: no layers (the buffers may be null).
+/// DeviceDepth. count 0: no layers (the buffers may be null). A layered DeviceDepth (texture
+/// arrays): count translucent layers per array layer, array layer after array layer
+/// (array layer a, translucent layer k at a * count + k).
 struct DeviceLayers {
     cl_mem depth = nullptr;
     cl_mem opacity = nullptr;
@@ -150,7 +154,8 @@ struct SatOptions {
     SatKernel kernel = SatKernel::automatic;
 };
 
-/// A table in host memory.
+/// A table in host memory, or a texture array of `layers` tables (build_sat of a layered
+/// DepthImage), layer after layer.
 struct SatTable {
     int width = 0;
     int height = 0;
@@ -158,10 +163,13 @@ struct SatTable {
     std::uint32_t scale = 0;             ///< sat_scale(N)
     /// 4 words per texel (channels R, G, B, A), row-major, rows top to bottom.
     std::vector<std::uint32_t> words;
+    int layers = 1; ///< array layers in `words`
 
-    const std::uint32_t* texel(int x, int y) const {
-        return words.data() + 4 * (static_cast<std::size_t>(y) * width + x);
+    const std::uint32_t* texel(int x, int y, int layer = 0) const {
+        return words.data() + 4 * ((static_cast<std::size_t>(layer) * height + y) * width + x);
     }
+    /// Array layer `index` (0 .. layers - 1) as a table of its own.
+    SatTable layer(int index) const;
 };
 
 /// A table already on the device: a buffer with 4 uint32 per texel, layout as SatTable.
