@@ -1,5 +1,6 @@
 // Validation and device layout of translucent layers (shared by filter and sat).
 #include "ops/translucent_layers.hpp"
+#include "ops/validation.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -32,14 +33,9 @@ void validate_layers(const std::string& call, const DepthImage& depth, const std
             const bool opacity_ok = a >= 0.0f && a <= 1.0f;
             if (depth_ok && opacity_ok) continue;
             // The first bad value: the depth if that is bad, else the opacity.
-            const std::size_t texel = i / depth.samples;
-            const std::size_t layer_texels = static_cast<std::size_t>(depth.width) * depth.height;
-            const std::size_t in_layer = texel % layer_texels;
             std::ostringstream text;
-            text << call << ": translucent layer " << k << (depth_ok ? " opacity" : " depth") << " at texel ("
-                 << in_layer % depth.width << ", " << in_layer / depth.width << ")";
-            if (depth.layers != 1) text << " of array layer " << texel / layer_texels;
-            text << " sample " << i % depth.samples << " is " << (depth_ok ? a : d);
+            text << call << ": translucent layer " << k << (depth_ok ? " opacity" : " depth") << " at "
+                 << sample_position_text(depth, i) << " is " << (depth_ok ? a : d);
             if (depth_ok) text << ", outside [0, 1]";
             else if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
             throw input_error(text.str());

@@ -32,20 +32,26 @@ void require_single_layer(const std::string& call, const char* what, int layers)
                           " layers, this call takes one (take a layer with layer(i))");
 }
 
+std::string sample_position_text(const DepthImage& depth, std::size_t value_index) {
+    // Value i is sample i % S of texel i / S, texels counted over the array layers.
+    const std::size_t texel = value_index / depth.samples;
+    const std::size_t layer_texels = texel_count(depth.width, depth.height);
+    const std::size_t in_layer = texel % layer_texels;
+    std::ostringstream text;
+    text << "texel (" << in_layer % depth.width << ", " << in_layer / depth.width << ")";
+    if (depth.layers != 1) text << " of array layer " << texel / layer_texels;
+    text << " sample " << value_index % depth.samples;
+    return text.str();
+}
+
 void validate_depth_values(const char* call, const DepthImage& depth, DepthRange range) {
     const float lowest = range == DepthRange::zero_one ? 0.0f : -1.0f;
     // Only the first bad value (if any) is looked at.
     const std::size_t count = depth.depth.size();
     if (const std::size_t i = first_outside(depth.depth.data(), count, lowest, 1.0f); i < count) {
         const float d = depth.depth[i];
-        // Value i is sample i % S of texel i / S (counted over the array layers).
-        const std::size_t texel = i / depth.samples;
-        const std::size_t layer_texels = texel_count(depth.width, depth.height);
-        const std::size_t in_layer = texel % layer_texels;
         std::ostringstream text;
-        text << call << ": depth at texel (" << in_layer % depth.width << ", " << in_layer / depth.width << ")";
-        if (depth.layers != 1) text << " of array layer " << texel / layer_texels;
-        text << " sample " << i % depth.samples << " is " << d;
+        text << call << ": depth at " << sample_position_text(depth, i) << " is " << d;
         if (std::isfinite(d)) text << ", outside the depth range [" << depth_range_name(range) << "]";
         throw input_error(text.str());
     }

@@ -33,6 +33,10 @@ void validate_array_layers(const std::string& call, int layers);
 /// this call takes one (take a layer with layer(i))" for layers != 1.
 void require_single_layer(const std::string& call, const char* what, int layers);
 
+/// Where value i of a depth map's samples (or of a layer laid out like it) stands:
+/// "texel (x, y) sample s", with " of array layer a" after the texel in a layered map.
+std::string sample_position_text(const DepthImage& depth, std::size_t value_index);
+
 /// The first NaN, Inf or out-of-range depth (row-major, samples in order): input_error
 /// "<call>: depth at texel (x, y) sample s is d[, outside the depth range [r]]" (with
 /// "of array layer a" after the texel in a layered map).
