@@ -446,6 +446,21 @@ TEST_F(IoTest, ImageSizesAreCappedAndCheckedAgainstTheFile) {
     std::ofstream(path("attribute.exr"), std::ios::binary) << claims_size;
     expect_input_error(depth_of(path("attribute.exr")), path("attribute.exr"),
                        "attribute dataWindow (box2i) claims 2147483647 bytes");
+    // A size field that disagrees with the value OpenEXR reads by the type's own layout
+    // (here the data window's box2i, 16 bytes): refused, since OpenEXR would lose step
+    // with the size fields and take later bytes for sizes.
+    std::string box_size = small;
+    const std::int32_t box_plus_one = 17;
+    std::memcpy(&box_size[box_at - 4], &box_plus_one, 4);
+    std::ofstream(path("box_size.exr"), std::ios::binary) << box_size;
+    expect_input_error(depth_of(path("box_size.exr")), path("box_size.exr"),
+                       "attribute dataWindow (box2i) has a size field of 17 bytes but a value of 16");
+    // A string vector whose string claims 2 GB inside an 8-byte value: OpenEXR would size
+    // the string by that length before reading it.
+    const std::string strings("names\0stringvector\0\x08\0\0\0\xff\xff\xff\x7f" "abcd", 31);
+    std::ofstream(path("strings.exr"), std::ios::binary) << small.substr(0, 8) + strings + small.substr(8);
+    expect_input_error(depth_of(path("strings.exr")), path("strings.exr"),
+                       "attribute names (stringvector) has a size field of 8 bytes");
     // Tiles of 1 x 1 over 8192 x 8192: refused before OpenEXR sizes its tile tables.
     ExrImage tiled = image_with(64, 64, {float_channel("Z", 64 * 64, 0.5f)});
     tiled.tiled = true;

@@ -170,11 +170,74 @@ private:
     std::exception_ptr failure_;
 };
 
+/// The value size OpenEXR's C++ reader takes for an attribute of a fixed-size type, which
+/// it reads without looking at the size field; 0 for a type whose size the field gives.
+/// Sizes from the OpenEXR file layout (a box2i is four int32, a tiledesc two uint32 and a
+/// mode byte, ...).
+std::uint32_t fixed_attribute_size(const std::string& type) {
+    static const std::pair<const char*, std::uint32_t> sizes[] = {
+        {"box2i", 16},    {"box2f", 16},   {"chromaticities", 32}, {"compression", 1}, {"deepImageState", 1},
+        {"double", 8},    {"envmap", 1},   {"float", 4},           {"int", 4},         {"keycode", 28},
+        {"lineOrder", 1}, {"m33f", 36},    {"m33d", 72},           {"m44f", 64},       {"m44d", 128},
+        {"rational", 8},  {"tiledesc", 9}, {"timecode", 8},        {"v2i", 8},         {"v2f", 8},
+        {"v2d", 16},      {"v3i", 12},     {"v3f", 12},            {"v3d", 24}};
+    for (const auto& [name, size] : sizes)
+        if (type == name) return size;
+    return 0;
+}
+
+/// How many bytes OpenEXR's reader takes for the value of a `type` attribute that starts
+/// at `at`, looking no further than `end` (the size field's end): fixed sizes, the entries
+/// of a channel list up to its empty name, the strings of a string vector, a preview's
+/// 8-byte size and RGBA8 texels; the size field itself for the types read by it. A value that runs past `end` gives more
+/// than the size field.
+std::uint64_t attribute_value_size(const std::string& type, const std::string& bytes, std::size_t at, std::size_t end) {
+    const std::uint64_t size = end - at;
+    if (const std::uint32_t fixed = fixed_attribute_size(type)) return fixed;
+    if (type == "chlist") {
+        // Entries of a name, then pixel type, linear flag, 3 reserved bytes and x, y sampling
+        // (16 bytes); an empty name ends the list.
+        std::size_t entry = at;
+        for (;;) {
+            const std::size_t name_end = bytes.find('\0', entry);
+            if (name_end == std::string::npos || name_end >= end) return size + 1;
+            if (name_end == entry) return name_end + 1 - at;
+            entry = name_end + 1 + 16;
+            if (entry > end) return size + 1;
+        }
+    }
+    if (type == "stringvector") {
+        // Strings of an int32 length and as many bytes, until the size field is used up;
+        // OpenEXR sizes each string by its length field before reading it.
+        std::size_t element = at;
+        while (element < end) {
+            std::int32_t length = 0;
+            if (end - element < 4) return size + 1;
+            std::memcpy(&length, bytes.data() + element, 4);
+            element += 4;
+            if (length < 0 || static_cast<std::uint64_t>(length) > end - element) return size + 1;
+            element += static_cast<std::size_t>(length);
+        }
+        return size;
+    }
+    if (type == "preview") {
+        if (size < 8) return 8;
+        std::uint32_t width = 0, height = 0;
+        std::memcpy(&width, bytes.data() + at, 4);
+        std::memcpy(&height, bytes.data() + at + 4, 4);
+        return 8 + 4 * static_cast<std::uint64_t>(width) * height;
+    }
+    return size;
+}
+
 /// Walks the attributes of the header after the magic number and version, as OpenEXR will
-/// read them, and refuses a size field larger than what is left of the file: OpenEXR
-/// allocates an attribute of unknown type by its size before reading it (a 500-byte file
-/// could ask for 2 GB). Multi-part and deep files are refused: msmcl reads single-part
-/// scanline and tiled images.
+/// read them, and refuses a header on which OpenEXR's reader and the size fields disagree:
+/// - a size field larger than what is left of the file (OpenEXR allocates an attribute of
+///   unknown type by its size before reading it: a 500-byte file could ask for 2 GB);
+/// - a fixed-size type, channel list or preview whose size field differs from what its
+///   value takes: OpenEXR reads those by their own layout, so it would lose step with the
+///   size fields and take later bytes for sizes that this walk never saw.
+/// Multi-part and deep files are refused: msmcl reads single-part scanline and tiled images.
 void check_header_attributes(const std::string& path, const std::string& bytes) {
     if (bytes.size() < 8) fail(path, "corrupt or truncated OpenEXR file: no version field");
     const unsigned flags = static_cast<unsigned char>(bytes[5]);
@@ -200,7 +263,12 @@ void check_header_attributes(const std::string& path, const std::string& bytes) 
         if (size < 0 || static_cast<std::uint64_t>(size) > bytes.size() - at)
             fail(path, "corrupt or truncated OpenEXR file: attribute " + name + " (" + type + ") claims " + std::to_string(size) +
                            " bytes, " + std::to_string(bytes.size() - at) + " are left in the file");
-        at += static_cast<std::size_t>(size);
+        const std::size_t value_end = at + static_cast<std::size_t>(size);
+        const std::uint64_t taken = attribute_value_size(type, bytes, at, value_end);
+        if (taken != static_cast<std::uint64_t>(size))
+            fail(path, "corrupt OpenEXR header: attribute " + name + " (" + type + ") has a size field of " +
+                           std::to_string(size) + " bytes but a value of " + std::to_string(taken));
+        at = value_end;
     }
 }
 
