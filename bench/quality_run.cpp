@@ -417,31 +417,25 @@ void check_self_shadowing(const PercentageCloser& pcf, const msmcl::Receivers& r
     for (char e : explained) result.moments128_self_shadow += e;
 }
 
-} // namespace
-
-SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const SceneInputs& inputs,
-                          msmcl::FilterKernel kernel) {
-    const msmcl::DepthImage& depth = inputs.depth;
-    const msmcl::io::ReceiverGrid& grid = inputs.grid;
-    const msmcl::Receivers& receivers = grid.points;
-    const std::size_t count = receivers.size();
-    const std::vector<float>& materials = inputs.materials;
-
-    // Ground truth per receiver; how far the samples each lookup filters stray from the receiver's plane.
-    const PercentageCloser pcf(depth, blur_sigma);
-    const GroundTruth g = ground_truth(pcf, grid);
-    const std::vector<double>& truth = g.truth;
-    const std::vector<double>& truth_constant_bias = g.truth_constant_bias;
-    const std::vector<double>& spread = g.spread;
-    // Banner receivers in the railing's shadow.
+/// Banner receivers in the railing's shadow (none without materials).
+std::vector<std::size_t> banner_leak_set(const std::vector<float>& materials, const std::vector<double>& truth) {
     std::vector<std::size_t> leak_set;
     for (std::size_t i = 0; i < materials.size(); ++i)
         if (static_cast<int>(materials[i]) == banner_material && truth[i] >= leak_truth_min) leak_set.push_back(i);
+    return leak_set;
+}
 
-    // Moment shadow maps: filter + shade for every format (nearest too for the paper's setting).
-    std::vector<MethodResult> methods;
-    msmcl::Texture device_nlq64, device_moments128;
-    std::vector<double> device_nearest_moments128, device_nearest_nlq64;
+/// The device's moment shadow maps: one method per format (bilinear lookups), and the
+/// moments128 and nlq64 textures with their nearest-texel shadows (the paper's setting).
+struct DeviceMaps {
+    std::vector<MethodResult> methods; ///< moments128, msm64, nlq64, nlq32 (the VSMs join later)
+    msmcl::Texture moments128, nlq64;
+    std::vector<double> nearest_moments128, nearest_nlq64;
+};
+
+DeviceMaps filter_and_shade(msmcl::Context& context, const msmcl::DepthImage& depth,
+                            const msmcl::Receivers& receivers, msmcl::FilterKernel kernel) {
+    DeviceMaps device;
     for (msmcl::Format format : {msmcl::Format::moments128, msmcl::Format::msm64, msmcl::Format::nlq64,
                                  msmcl::Format::nlq32}) {
         msmcl::FilterOptions filter_options;
@@ -449,53 +443,72 @@ SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const Sce
         filter_options.sigma = static_cast<float>(blur_sigma);
         filter_options.kernel = kernel;
         msmcl::Texture map = msmcl::filter(context, depth, filter_options);
-        methods.push_back({msmcl::format_name(format),
-                           device_shadow(context, map, receivers, msmcl::Lookup::bilinear), {}, {}, {}, {}});
+        device.methods.push_back({msmcl::format_name(format),
+                                  device_shadow(context, map, receivers, msmcl::Lookup::bilinear), {}, {}, {}, {}});
         if (format == msmcl::Format::moments128) {
-            device_nearest_moments128 = device_shadow(context, map, receivers, msmcl::Lookup::nearest);
-            device_moments128 = map;
+            device.nearest_moments128 = device_shadow(context, map, receivers, msmcl::Lookup::nearest);
+            device.moments128 = map;
         }
         if (format == msmcl::Format::nlq64) {
-            device_nearest_nlq64 = device_shadow(context, map, receivers, msmcl::Lookup::nearest);
-            device_nlq64 = std::move(map);
+            device.nearest_nlq64 = device_shadow(context, map, receivers, msmcl::Lookup::nearest);
+            device.nlq64 = std::move(map);
         }
     }
+    return device;
+}
 
-    // Variance shadow maps of the same resolve and blur (double reference moments).
-    ref::DepthMap reference_depth{depth.width, depth.height, depth.samples, depth.depth, true};
-    DoubleShading reference(ref::filter_moments(reference_depth, blur_sigma), depth.width, depth.height,
-                            &device_nlq64);
-    // The device's float32 filtered moments (moments128 texels), shaded and encoded in double.
-    std::vector<ref::Moments> float_moments(device_moments128.words.size() / 4);
-    for (std::size_t t = 0; t < float_moments.size(); ++t) {
-        const int x = static_cast<int>(t % depth.width), y = static_cast<int>(t / depth.width);
-        float_moments[t] = {device_moments128.moment(x, y, 1), device_moments128.moment(x, y, 2),
-                            device_moments128.moment(x, y, 3), device_moments128.moment(x, y, 4)};
+/// The device's float32 filtered moments (its moments128 texels) in double.
+std::vector<ref::Moments> texel_moments(const msmcl::Texture& moments128) {
+    std::vector<ref::Moments> moments(moments128.words.size() / 4);
+    for (std::size_t t = 0; t < moments.size(); ++t) {
+        const int x = static_cast<int>(t % moments128.width), y = static_cast<int>(t / moments128.width);
+        moments[t] = {moments128.moment(x, y, 1), moments128.moment(x, y, 2), moments128.moment(x, y, 3),
+                      moments128.moment(x, y, 4)};
     }
-    const DoubleShading from_float_moments(std::move(float_moments), depth.width, depth.height, nullptr);
+    return moments;
+}
+
+/// Variance shadow maps of the same resolve and blur (the double reference moments): vsm32
+/// (two unorm16 moments) and vsm64.
+void add_variance_methods(const DoubleShading& reference, int width, int height, const msmcl::Receivers& receivers,
+                          std::vector<MethodResult>& methods) {
     for (bool unorm16 : {true, false}) {
-        const VarianceMap map = variance_map(reference.moments(), depth.width, depth.height, unorm16);
-        std::vector<double> shadow(count);
-        for (std::size_t i = 0; i < count; ++i)
+        const VarianceMap map = variance_map(reference.moments(), width, height, unorm16);
+        std::vector<double> shadow(receivers.size());
+        for (std::size_t i = 0; i < receivers.size(); ++i)
             shadow[i] = shade_variance(map, receivers.u[i], receivers.v[i], receivers.z[i]);
         methods.push_back({unorm16 ? "vsm32" : "vsm64", std::move(shadow), {}, {}, {}, {}});
     }
+}
 
-    // Errors against 128-bit moments and the ground truth; the leak figure.
+/// Each method's errors against 128-bit moments (methods[0]) and the ground truth, and its
+/// leak on the banner.
+void score_methods(std::vector<MethodResult>& methods, const GroundTruth& g, const std::vector<std::size_t>& leak_set,
+                   bool has_materials) {
     const std::vector<double>& moments128 = methods[0].shadow;
-    const std::vector<double>& nlq64 = methods[2].shadow;
     for (MethodResult& method : methods) {
         method.vs_moments128 = compare(method.shadow, moments128);
-        method.vs_truth = compare(method.shadow, truth);
-        method.vs_truth_constant_bias = compare(method.shadow, truth_constant_bias);
-        method.leak = banner_leak(method.shadow, truth, leak_set, !materials.empty());
+        method.vs_truth = compare(method.shadow, g.truth);
+        method.vs_truth_constant_bias = compare(method.shadow, g.truth_constant_bias);
+        method.leak = banner_leak(method.shadow, g.truth, leak_set, has_materials);
     }
+}
 
-    // Double-precision shading of the same filtered moments: the decomposition.
+/// Double-precision shadows of the same filtered moments, per receiver: the double
+/// moments (reference) and the device's float32 texels (float_*), each as 128-bit moments
+/// and in the nlq representations; bilinear unless *_nearest.
+struct DoubleShadows {
+    std::vector<double> moments128, moments128_nearest;
+    std::vector<double> exact_nlq, nlq64, nlq64_nearest, psi_only, depths_weight_only, device_codes;
+    std::vector<double> float128, float128_nearest, float_nlq64, float_nlq64_nearest;
+};
+
+DoubleShadows shade_in_double(const DoubleShading& reference, const DoubleShading& from_float_moments,
+                              const msmcl::Receivers& receivers) {
     using Texels = DoubleShading::Texels;
     auto double_shadow = [&](const std::function<double(double, double, double)>& shade) {
-        std::vector<double> shadow(count);
-        parallel_for(count, [&](std::size_t i) {
+        std::vector<double> shadow(receivers.size());
+        parallel_for(receivers.size(), [&](std::size_t i) {
             shadow[i] = shade(receivers.u[i], receivers.v[i], 2.0 * receivers.z[i] - 1.0 - depth_bias);
         });
         return shadow;
@@ -503,94 +516,139 @@ SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const Sce
     auto nlq_shadow = [&](Texels kind, bool bilinear) {
         return double_shadow([&](double u, double v, double zf) { return reference.nlq(kind, u, v, zf, bilinear); });
     };
-    const std::vector<double> double128 =
-        double_shadow([&](double u, double v, double zf) { return reference.moments128(u, v, zf, true); });
-    const std::vector<double> double128_nearest =
-        double_shadow([&](double u, double v, double zf) { return reference.moments128(u, v, zf, false); });
-    const std::vector<double> exact_nlq = nlq_shadow(Texels::exact_nlq, true);
-    const std::vector<double> double_nlq64 = nlq_shadow(Texels::nlq64, true);
-    const std::vector<double> psi_only = nlq_shadow(Texels::nlq64_psi_only, true);
-    const std::vector<double> depths_weight_only = nlq_shadow(Texels::nlq64_depths_weight_only, true);
-    const std::vector<double> device_codes = nlq_shadow(Texels::device_nlq64, true);
-    const std::vector<double> double_nlq64_nearest = nlq_shadow(Texels::nlq64, false);
     auto float_moments_shadow = [&](bool bilinear, bool as_nlq64) {
         return double_shadow([&](double u, double v, double zf) {
             return as_nlq64 ? from_float_moments.nlq(Texels::nlq64, u, v, zf, bilinear)
                             : from_float_moments.moments128(u, v, zf, bilinear);
         });
     };
-    const std::vector<double> float128 = float_moments_shadow(true, false);
-    const std::vector<double> float128_nearest = float_moments_shadow(false, false);
-    const std::vector<double> float_nlq64 = float_moments_shadow(true, true);
-    const std::vector<double> float_nlq64_nearest = float_moments_shadow(false, true);
-    const std::vector<Step> steps = {
+    DoubleShadows d;
+    d.moments128 = double_shadow([&](double u, double v, double zf) { return reference.moments128(u, v, zf, true); });
+    d.moments128_nearest =
+        double_shadow([&](double u, double v, double zf) { return reference.moments128(u, v, zf, false); });
+    d.exact_nlq = nlq_shadow(Texels::exact_nlq, true);
+    d.nlq64 = nlq_shadow(Texels::nlq64, true);
+    d.psi_only = nlq_shadow(Texels::nlq64_psi_only, true);
+    d.depths_weight_only = nlq_shadow(Texels::nlq64_depths_weight_only, true);
+    d.device_codes = nlq_shadow(Texels::device_nlq64, true);
+    d.nlq64_nearest = nlq_shadow(Texels::nlq64, false);
+    d.float128 = float_moments_shadow(true, false);
+    d.float128_nearest = float_moments_shadow(false, false);
+    d.float_nlq64 = float_moments_shadow(true, true);
+    d.float_nlq64_nearest = float_moments_shadow(false, true);
+    return d;
+}
+
+/// The decomposition of nlq64 - moments128: one step per source of difference.
+std::vector<Step> decomposition(const DeviceMaps& device, const DoubleShadows& d) {
+    const std::vector<double>& moments128 = device.methods[0].shadow;
+    const std::vector<double>& nlq64 = device.methods[2].shadow;
+    return {
         {"nlq64 vs moments128 (device, bilinear)", "the table's figure", compare(nlq64, moments128)},
         {"nlq64 (device) vs 128-bit (double)", "against 128-bit moments without float32 rounding",
-         compare(nlq64, double128)},
+         compare(nlq64, d.moments128)},
         {"moments128: device texels in double vs double", "float32 filter and storage of the moments",
-         compare(float128, double128)},
-        {"moments128: device vs its texels in double", "float32 shading", compare(moments128, float128)},
+         compare(d.float128, d.moments128)},
+        {"moments128: device vs its texels in double", "float32 shading", compare(moments128, d.float128)},
         {"exact nlq vs 128-bit (double)", "lookup: shade 4 texels, blend intensities instead of blending moments",
-         compare(exact_nlq, double128)},
+         compare(d.exact_nlq, d.moments128)},
         {"nlq64 vs exact nlq (double)", "16-bit format: y1, y2, v2 rounded, Psi4 rounded up",
-         compare(double_nlq64, exact_nlq)},
-        {"  Psi4 only vs exact nlq", "  only Psi4(xi4) quantized", compare(psi_only, exact_nlq)},
-        {"  y1, y2, v2 only vs exact nlq", "  only y1, y2, v2 quantized", compare(depths_weight_only, exact_nlq)},
-        {"nlq64 vs 128-bit (double)", "lookup and format together", compare(double_nlq64, double128)},
+         compare(d.nlq64, d.exact_nlq)},
+        {"  Psi4 only vs exact nlq", "  only Psi4(xi4) quantized", compare(d.psi_only, d.exact_nlq)},
+        {"  y1, y2, v2 only vs exact nlq", "  only y1, y2, v2 quantized", compare(d.depths_weight_only, d.exact_nlq)},
+        {"nlq64 vs 128-bit (double)", "lookup and format together", compare(d.nlq64, d.moments128)},
         {"nlq64 of the float32 moments vs of the double moments", "float32 moments128 texels into double Algorithm 2",
-         compare(float_nlq64, double_nlq64)},
+         compare(d.float_nlq64, d.nlq64)},
         {"device codes vs double codes", "float32 filter and Algorithm 2 (codes shaded in double)",
-         compare(device_codes, double_nlq64)},
-        {"device nlq64 vs device codes in double", "float32 Algorithm 3", compare(nlq64, device_codes)},
+         compare(d.device_codes, d.nlq64)},
+        {"device nlq64 vs device codes in double", "float32 Algorithm 3", compare(nlq64, d.device_codes)},
         {"nearest: nlq64 vs moments128 (device)", "the paper's setting (nearest texel on both)",
-         compare(device_nearest_nlq64, device_nearest_moments128)},
+         compare(device.nearest_nlq64, device.nearest_moments128)},
         {"nearest: nlq64 (device) vs 128-bit (double)", "against 128-bit moments without float32 rounding",
-         compare(device_nearest_nlq64, double128_nearest)},
-        {"nearest: nlq64 vs 128-bit (double)", "format alone", compare(double_nlq64_nearest, double128_nearest)},
+         compare(device.nearest_nlq64, d.moments128_nearest)},
+        {"nearest: nlq64 vs 128-bit (double)", "format alone", compare(d.nlq64_nearest, d.moments128_nearest)},
         {"nearest: moments128 device texels in double vs double", "float32 filter and storage of the moments",
-         compare(float128_nearest, double128_nearest)},
+         compare(d.float128_nearest, d.moments128_nearest)},
         {"nearest: moments128 device vs double", "float32 filter, storage and shading",
-         compare(device_nearest_moments128, double128_nearest)},
+         compare(device.nearest_moments128, d.moments128_nearest)},
         {"nearest: nlq64 of the float32 moments vs of the double moments", "float32 moments128 texels into double Algorithm 2",
-         compare(float_nlq64_nearest, double_nlq64_nearest)},
+         compare(d.float_nlq64_nearest, d.nlq64_nearest)},
         {"nearest: device nlq64 vs double nlq64", "float32 filter, Algorithm 2 and 3",
-         compare(device_nearest_nlq64, double_nlq64_nearest)},
+         compare(device.nearest_nlq64, d.nlq64_nearest)},
     };
-    // Codes the float32 encoder writes against the double encoding of the double moments.
-    SceneResult result;
-    count_codes_off(device_nlq64, reference.moments(), result);
+}
 
-    // Where the receivers with nlq64 off by > 3% are: classes by footprint depth range.
+/// Where the receivers with nlq64 off by > 3% are: classes by the depth range of their
+/// footprint (spread_bounds).
+std::array<FootprintClass, 3> footprint_classes(const std::vector<double>& spread, const DeviceMaps& device,
+                                                const DoubleShadows& d) {
+    const std::vector<double>& moments128 = device.methods[0].shadow;
+    const std::vector<double>& nlq64 = device.methods[2].shadow;
     std::array<FootprintClass, 3> classes{};
-    for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t i = 0; i < spread.size(); ++i) {
         const int k = spread[i] < spread_bounds[0] ? 0 : spread[i] < spread_bounds[1] ? 1 : 2;
         ++classes[k].receivers;
         const double error = std::abs(nlq64[i] - moments128[i]);
         if (error > error_threshold) {
             ++classes[k].nlq64_above;
-            if (std::abs(exact_nlq[i] - double128[i]) > error_threshold) ++classes[k].lookup_above;
+            if (std::abs(d.exact_nlq[i] - d.moments128[i]) > error_threshold) ++classes[k].lookup_above;
         }
         if (error > large_error_threshold) ++classes[k].nlq64_above_large;
-        if (std::abs(device_nearest_nlq64[i] - device_nearest_moments128[i]) > error_threshold)
+        if (std::abs(device.nearest_nlq64[i] - device.nearest_moments128[i]) > error_threshold)
             ++classes[k].nearest_above;
-        if (std::abs(device_nearest_nlq64[i] - double_nlq64_nearest[i]) > error_threshold)
+        if (std::abs(device.nearest_nlq64[i] - d.nlq64_nearest[i]) > error_threshold)
             ++classes[k].nearest_encoder_above;
     }
+    return classes;
+}
 
-    // Self-shadowing check of moments128 against the truth.
-    check_self_shadowing(pcf, receivers, g, moments128, result);
+} // namespace
 
+SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const SceneInputs& inputs,
+                          msmcl::FilterKernel kernel) {
+    const msmcl::DepthImage& depth = inputs.depth;
+    const msmcl::io::ReceiverGrid& grid = inputs.grid;
+    const msmcl::Receivers& receivers = grid.points;
+    const bool has_materials = !inputs.materials.empty();
+
+    // Ground truth per receiver; how far the samples each lookup filters stray from the receiver's plane.
+    const PercentageCloser pcf(depth, blur_sigma);
+    const GroundTruth g = ground_truth(pcf, grid);
+    const std::vector<std::size_t> leak_set = banner_leak_set(inputs.materials, g.truth);
+
+    // Moment shadow maps: filter + shade for every format.
+    DeviceMaps device = filter_and_shade(context, depth, receivers, kernel);
+
+    // The double reference moments of the same resolve and blur, and the device's float32 ones.
+    const ref::DepthMap reference_depth{depth.width, depth.height, depth.samples, depth.depth, true};
+    const DoubleShading reference(ref::filter_moments(reference_depth, blur_sigma), depth.width, depth.height,
+                                  &device.nlq64);
+    const DoubleShading from_float_moments(texel_moments(device.moments128), depth.width, depth.height, nullptr);
+
+    // Every method (the formats, then VSM) against 128-bit moments and the ground truth.
+    add_variance_methods(reference, depth.width, depth.height, receivers, device.methods);
+    score_methods(device.methods, g, leak_set, has_materials);
+
+    // Double-precision shading of the same filtered moments: the decomposition, and where
+    // the receivers with large differences lie.
+    const DoubleShadows doubles = shade_in_double(reference, from_float_moments, receivers);
+
+    SceneResult result;
     result.scene = scene;
     result.width = depth.width, result.height = depth.height, result.samples = depth.samples;
     result.view_width = grid.width, result.view_height = grid.height;
-    result.count = count;
-    result.has_materials = !materials.empty();
+    result.count = receivers.size();
+    result.has_materials = has_materials;
     result.leak_set_size = leak_set.size();
-    result.truth = truth;
-    result.truth_constant_bias = truth_constant_bias;
-    result.methods = std::move(methods);
-    result.steps = steps;
-    result.classes = classes;
+    result.truth = g.truth;
+    result.truth_constant_bias = g.truth_constant_bias;
+    result.steps = decomposition(device, doubles);
+    result.classes = footprint_classes(g.spread, device, doubles);
+    result.methods = std::move(device.methods);
+    // Codes the float32 encoder writes against the double encoding of the double moments.
+    count_codes_off(device.nlq64, reference.moments(), result);
+    // Self-shadowing check of moments128 against the truth.
+    check_self_shadowing(pcf, receivers, g, result.methods[0].shadow, result);
     return result;
 }
 
