@@ -3,6 +3,7 @@
 #include "cli/progress.hpp"
 
 #include "io/atomic_file.hpp"
+#include "runtime/enum_names.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -63,14 +64,13 @@ auto post_task(boost::asio::thread_pool& pool, Work work) -> std::future<decltyp
 
 enum class Outcome { pending, written, bad_input, failed };
 
-const char* outcome_name(Outcome outcome) {
-    switch (outcome) {
-    case Outcome::written: return "written";
-    case Outcome::bad_input: return "bad_input";
-    case Outcome::failed: return "failed";
-    default: return "pending";
-    }
-}
+/// The outcomes' names in the JSON summary ("status" of a file).
+constexpr detail::EnumNames<Outcome> outcome_names[] = {
+    {Outcome::pending, "pending"},
+    {Outcome::written, "written"},
+    {Outcome::bad_input, "bad_input"},
+    {Outcome::failed, "failed"},
+};
 
 /// What became of one file of a batch.
 struct FileReport {
@@ -174,7 +174,7 @@ public:
             const FileReport& r = reports_[i];
             json file = {{"input", jobs_[i].input},
                          {"output", jobs_[i].output},
-                         {"status", outcome_name(r.outcome)},
+                         {"status", detail::name_in(outcome_names, r.outcome)},
                          {"error", r.error.empty() ? json(nullptr) : json(r.error)},
                          {"device", r.device},
                          {"input_bytes", r.input_bytes},
