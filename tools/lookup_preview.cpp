@@ -5,6 +5,7 @@
 // (pixel replication) show the texel structure.
 #include "io/exr_io.hpp"
 #include "io/png_io.hpp"
+#include "exr_channels.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -15,6 +16,8 @@
 #include <algorithm>
 #include <iostream>
 #include <sstream>
+
+using msmcl::tools::float_channel;
 
 namespace {
 
@@ -35,13 +38,6 @@ Crop parse_crop(const std::string& text, int view_width, int view_height) {
     return crop;
 }
 
-const std::vector<float>& float_channel(const msmcl::io::ExrImage& image, const std::string& path,
-                                        const std::string& name) {
-    const msmcl::io::ExrChannel* channel = image.find_channel(name);
-    if (!channel || channel->type == msmcl::io::SampleType::uint32)
-        throw msmcl::input_error(path + ": no HALF or FLOAT channel " + name);
-    return channel->values;
-}
 
 } // namespace
 

@@ -3,6 +3,7 @@
 // direct light of the view: ambient + direct * (1 - Y).
 #include "io/exr_io.hpp"
 #include "io/png_io.hpp"
+#include "exr_channels.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -10,17 +11,7 @@
 
 #include <iostream>
 
-namespace {
-
-const std::vector<float>& float_channel(const msmcl::io::ExrImage& image, const std::string& path,
-                                        const std::string& name) {
-    const msmcl::io::ExrChannel* channel = image.find_channel(name);
-    if (!channel || channel->type == msmcl::io::SampleType::uint32)
-        throw msmcl::input_error(path + ": no HALF or FLOAT channel " + name);
-    return channel->values;
-}
-
-} // namespace
+using msmcl::tools::float_channel;
 
 int main(int argc, char** argv) {
     CLI::App app{"msmcl-preview: an EXR channel (optionally lit by a view's lighting terms) as PNG", "msmcl-preview"};

@@ -1,6 +1,7 @@
 // msmcl-signed-difference: the signed difference of an approximation from its ground truth
 // (two EXRs of one size) as a PNG in the diverging colour map of signed_difference.hpp, with
 // its legend bar, and one line of statistics on stdout.
+#include "exr_channels.hpp"
 #include "signed_difference.hpp"
 
 #include "io/exr_io.hpp"
@@ -13,17 +14,7 @@
 #include <iostream>
 #include <map>
 
-namespace {
-
-const msmcl::io::ExrChannel& float_channel(const msmcl::io::ExrImage& image, const std::string& path,
-                                           const std::string& name) {
-    const msmcl::io::ExrChannel* channel = image.find_channel(name);
-    if (!channel || channel->type == msmcl::io::SampleType::uint32)
-        throw msmcl::input_error(path + ": no HALF or FLOAT channel " + name);
-    return *channel;
-}
-
-} // namespace
+using msmcl::tools::float_channel;
 
 int main(int argc, char** argv) {
     CLI::App app{"msmcl-signed-difference: light(APPROXIMATION) - light(TRUTH) as a PNG with a legend bar "
@@ -55,8 +46,8 @@ int main(int argc, char** argv) {
             throw msmcl::input_error(truth_path + ": size differs from " + approximation_path);
         // Difference in light, then the picture and the numbers.
         const std::vector<double> difference = msmcl::tools::signed_difference(
-            float_channel(approximation, approximation_path, channel).values,
-            float_channel(truth, truth_path, truth_channel).values, quantity);
+            float_channel(approximation, approximation_path, channel),
+            float_channel(truth, truth_path, truth_channel), quantity);
         msmcl::tools::write_signed_difference_png(output, truth.width, truth.height, difference, range);
         const msmcl::tools::DifferenceStats stats = msmcl::tools::difference_stats(difference, threshold);
         std::printf("pixels %zu, mean |d| %.4f, p99 |d| %.4f, max |d| %.4f, lighter by > %g: %.2f%%, darker by > %g: %.2f%%\n",
