@@ -30,9 +30,7 @@ cl_mem sub_buffer(cl_mem buffer, std::size_t origin, std::size_t bytes) {
 
 std::vector<CaseResult> run_array(BenchEnv& env, const Workload& work) {
     Context& context = *env.context;
-    FilterOptions options;
-    options.format = work.format;
-    options.sigma = work.sigma;
+    const FilterOptions options = work.filter_options();
     const std::size_t depth_bytes = work.texels() * work.samples * sizeof(float);
     const std::size_t texture_bytes = work.texture_bytes();
     // The sub-buffers of the separate calls must start at the device's base alignment.

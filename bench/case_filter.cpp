@@ -20,11 +20,9 @@ const char* kernel_label(FilterKernel kernel) {
 }
 
 std::vector<CaseResult> run_filter(BenchEnv& env, const Workload& work, const char* name, FilterKernel kernel) {
-    FilterOptions options;
-    options.format = work.format;
-    options.sigma = work.sigma;
+    FilterOptions options = work.filter_options();
     options.kernel = kernel;
-    const DeviceDepth depth{work.depth_buffer, work.size, work.size, work.samples};
+    const DeviceDepth depth = work.device_depth();
     const auto run = [&] {
         filter(*env.context, depth, work.texture_buffer, options);
         env.context->finish();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <msmcl/context.hpp>
+#include <msmcl/filter.hpp>
 #include <msmcl/formats.hpp>
 
 #include <nlohmann/json.hpp>
@@ -32,6 +33,14 @@ struct Workload {
     /// Bytes every case must move at least: the samples in, the texture out.
     std::size_t bytes() const { return texels() * (samples * sizeof(float) + texel_bytes(format)); }
     std::size_t texture_bytes() const { return texels() * texel_bytes(format); }
+    /// The depth on the device, and the filter options of the format and blur.
+    DeviceDepth device_depth() const { return {depth_buffer, size, size, samples}; }
+    FilterOptions filter_options() const {
+        FilterOptions options;
+        options.format = format;
+        options.sigma = sigma;
+        return options;
+    }
 };
 
 /// What the cases share: the device, repetition counts, the three-pass texture of the

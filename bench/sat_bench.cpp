@@ -18,6 +18,7 @@
 // `speedup_over_row_per_thread` the median of the per-turn ratios. Table rows record whether
 // they equal the baseline's table bit for bit; soft rows the cost per receiver.
 #include "harness.hpp"
+#include "scene.hpp"
 #include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
@@ -28,7 +29,6 @@
 #include <functional>
 #include <limits>
 #include <map>
-#include <random>
 #include <string>
 #include <tuple>
 
@@ -173,7 +173,7 @@ std::vector<CaseResult> run_sat(BenchEnv& env, const Workload& work) {
         {gpu ? "sat_tiled_gpu" : "sat_tiled_cpu", gpu ? SatKernel::tiled_gpu : SatKernel::tiled_cpu},
         {gpu ? "sat_tiled_cpu" : "sat_tiled_gpu", gpu ? SatKernel::tiled_cpu : SatKernel::tiled_gpu}};
     const std::size_t builds_in_turns = std::size(builds) - 1;
-    const DeviceDepth depth{work.depth_buffer, work.size, work.size, work.samples};
+    const DeviceDepth depth = work.device_depth();
     const auto options_of = [](SatKernel kernel) {
         SatOptions options;
         options.max_kernel_texels = kMaxKernel;
@@ -239,16 +239,7 @@ std::vector<CaseResult> run_soft(BenchEnv& env, const Workload& work) {
     sat_options.max_kernel_texels = kMaxKernel;
     const SatTable table = build_sat(context, *work.depth, sat_options);
     const std::size_t count = std::size_t(1) << 18;
-    std::vector<float> uvz(3 * count);
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (std::size_t i = 0; i < count; ++i) {
-        const float u = unit(rng) * work.size, v = unit(rng) * work.size;
-        const int x = std::min(static_cast<int>(u), work.size - 1), y = std::min(static_cast<int>(v), work.size - 1);
-        uvz[i] = u;
-        uvz[count + i] = v;
-        uvz[2 * count + i] = work.depth->at(x, y, 0);
-    }
+    const std::vector<float> uvz = surface_receivers(*work.depth, count, 11);
     Buffer table_buffer(context, table.words.size() * 4, table.words.data());
     Buffer receivers(context, uvz.size() * 4, uvz.data());
     Buffer intensity(context, count * 4);

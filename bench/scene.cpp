@@ -68,4 +68,18 @@ DepthImage make_scene(int size, int samples, std::uint32_t seed) {
     return image;
 }
 
+std::vector<float> surface_receivers(const DepthImage& depth, std::size_t count, std::uint32_t seed) {
+    std::vector<float> uvz(3 * count);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (std::size_t i = 0; i < count; ++i) {
+        const float u = unit(rng) * depth.width, v = unit(rng) * depth.height;
+        const int x = std::min(static_cast<int>(u), depth.width - 1), y = std::min(static_cast<int>(v), depth.height - 1);
+        uvz[i] = u;
+        uvz[count + i] = v;
+        uvz[2 * count + i] = depth.at(x, y, 0);
+    }
+    return uvz;
+}
+
 } // namespace msmcl::bench

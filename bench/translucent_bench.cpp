@@ -11,6 +11,7 @@
 // Shade rows report the cost per receiver; filter rows `bytes` = what each must move (the
 // layers' depths and opacities included), so GB/s compare.
 #include "harness.hpp"
+#include "scene.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -18,7 +19,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 
 namespace msmcl::bench {
@@ -36,27 +36,14 @@ std::vector<float> read_floats(Context& context, cl_mem buffer, std::size_t coun
 std::vector<CaseResult> run_lookups(BenchEnv& env, const Workload& work) {
     Context& context = *env.context;
     // The workload's map in its format, filtered into the workload's texture.
-    FilterOptions filter_options;
-    filter_options.format = work.format;
-    filter_options.sigma = work.sigma;
-    filter(context, DeviceDepth{work.depth_buffer, work.size, work.size, work.samples}, work.texture_buffer,
-           filter_options);
+    filter(context, work.device_depth(), work.texture_buffer, work.filter_options());
     const DeviceTexture map{work.texture_buffer, work.format, work.size, work.size};
 
     // 2^18 receivers at random spots on the map's surface (sample 0 of their texel), the
     // pixels of a 512 x 512 view (row-major).
     const std::uint32_t view = 512;
     const std::size_t count = std::size_t(view) * view;
-    std::vector<float> uvz(3 * count);
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (std::size_t i = 0; i < count; ++i) {
-        const float u = unit(rng) * work.size, v = unit(rng) * work.size;
-        const int x = std::min(static_cast<int>(u), work.size - 1), y = std::min(static_cast<int>(v), work.size - 1);
-        uvz[i] = u;
-        uvz[count + i] = v;
-        uvz[2 * count + i] = work.depth->at(x, y, 0);
-    }
+    const std::vector<float> uvz = surface_receivers(*work.depth, count, 5);
     Buffer receivers(context, uvz.size() * sizeof(float), uvz.data());
     Buffer intensity(context, count * sizeof(float));
 
@@ -132,10 +119,8 @@ std::vector<TranslucentLayer> translucent_layers(const Workload& work) {
 
 std::vector<CaseResult> run_translucent(BenchEnv& env, const Workload& work) {
     Context& context = *env.context;
-    FilterOptions options;
-    options.format = work.format;
-    options.sigma = work.sigma;
-    const DeviceDepth depth{work.depth_buffer, work.size, work.size, work.samples};
+    const FilterOptions options = work.filter_options();
+    const DeviceDepth depth = work.device_depth();
 
     // The layers on the device, layer after layer.
     const std::vector<TranslucentLayer> layers = translucent_layers(work);
