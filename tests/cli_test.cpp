@@ -6,7 +6,7 @@
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
 #include "io/sat_exr.hpp"
-#include "process.hpp"
+#include "captured_process.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -63,11 +63,7 @@ std::uint32_t test_seed() {
     return seed;
 }
 
-struct ProcessResult {
-    int exit_code = -1; ///< -1: killed by a signal
-    std::string out;
-    std::string err;
-};
+using msmcl::testing::ProcessResult;
 
 bool have_device() {
     try {
@@ -105,18 +101,8 @@ protected:
 
     /// Runs a program (no shell) with stdout and stderr captured.
     ProcessResult run(std::vector<std::string> arguments) {
-        const std::string out_log = (root_ / "log" / "stdout").string(), err_log = (root_ / "log" / "stderr").string();
-        const std::string program = arguments[0];
-        const int exit_code = msmcl::testing::run_process(std::move(arguments), out_log, err_log);
-        ProcessResult result;
-        if (exit_code == msmcl::testing::process_not_started) {
-            ADD_FAILURE() << "cannot run " << program;
-            return result;
-        }
-        result.exit_code = exit_code;
-        result.out = msmcl::io::read_whole_file(out_log);
-        result.err = msmcl::io::read_whole_file(err_log);
-        return result;
+        return msmcl::testing::run_captured(std::move(arguments), (root_ / "log" / "stdout").string(),
+                                            (root_ / "log" / "stderr").string());
     }
     ProcessResult msmcl_cli(std::vector<std::string> arguments) {
         arguments.insert(arguments.begin(), cli_path);

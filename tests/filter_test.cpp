@@ -28,13 +28,8 @@
 
 namespace {
 
+// The fixtures' maps and checks, and their names for msmcl's types (ref, DepthImage, ...).
 using namespace filter_fixtures;
-namespace ref = msmcl::reference;
-using msmcl::DepthImage;
-using msmcl::DepthRange;
-using msmcl::FilterKernel;
-using msmcl::Format;
-using msmcl::Texture;
 
 using Size = std::array<int, 2>;
 

@@ -5,7 +5,7 @@
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
 #include "io/scene_json.hpp"
-#include "process.hpp"
+#include "captured_process.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -45,10 +45,7 @@ std::string read_text(const std::string& path) {
     return text.str();
 }
 
-struct ProcessResult {
-    int exit_code = -1;
-    std::string out, err;
-};
+using msmcl::testing::ProcessResult;
 
 class ScatterCli : public ::testing::Test {
 protected:
@@ -93,18 +90,8 @@ protected:
     }
 
     ProcessResult run(std::vector<std::string> arguments) {
-        const std::string out_log = (root_ / "log" / "stdout").string(), err_log = (root_ / "log" / "stderr").string();
-        const std::string program = arguments[0];
-        const int exit_code = msmcl::testing::run_process(std::move(arguments), out_log, err_log);
-        ProcessResult result;
-        if (exit_code == msmcl::testing::process_not_started) {
-            ADD_FAILURE() << "cannot run " << program;
-            return result;
-        }
-        result.exit_code = exit_code;
-        result.out = msmcl::io::read_whole_file(out_log);
-        result.err = msmcl::io::read_whole_file(err_log);
-        return result;
+        return msmcl::testing::run_captured(std::move(arguments), (root_ / "log" / "stdout").string(),
+                                            (root_ / "log" / "stderr").string());
     }
 
     ProcessResult scatter(std::vector<std::string> arguments) {
