@@ -105,6 +105,16 @@ static inline int tile_x0(int border, int ix0, int ix1) {
 }
 static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 
+// Input texel (x0 - 4 + x, row / width) of a map of MSM_SAMPLES floats per texel, `row`
+// the first texel of its row: border tiles clamp the column into the image; interior ones
+// add the id last, to a uniform base pointer (see CPU_X).
+static inline __global const float* input_texel(__global const float* map, size_t row, int border, int x0,
+                                                int width, size_t x) {
+    if (border) return map + (row + (size_t)clamp(x0 - CPU_GUARD + (int)x, 0, width - 1)) * MSM_SAMPLES;
+    __global const float* first = map + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
+    return first + x * MSM_SAMPLES;
+}
+
 // Rows alternate between two buffers of `size` floats.
 #define CPU_BUFFER(r, size) ((size_t)((r) % 2) * (size))
 
@@ -149,13 +159,7 @@ static inline void shift_partials(__global const float* depth, int width, int he
     const size_t x = CPU_X(r);
     const int x0 = tile_x0(border, ix0, ix1);
     const int y0 = tile_y0();
-    __global const float* column;
-    if (border) {
-        column = depth + (size_t)clamp(x0 - CPU_GUARD + (int)x, 0, width - 1) * MSM_SAMPLES;
-    } else {
-        column = depth + (size_t)(x0 - CPU_GUARD) * MSM_SAMPLES;
-        column += x * MSM_SAMPLES;
-    }
+    __global const float* column = input_texel(depth, 0, border, x0, width, x);
     float lowest = 1.0f, highest = -1.0f;
 #pragma unroll
     for (int k = 0; k < CPU_TILE_H + 2 * CPU_GUARD; ++k) {
@@ -260,29 +264,13 @@ static inline void resolve_row(__global const float* depth, int width, int heigh
     const float shift = tile_shift(shift_of, zero, r);
     CPU_END_BLOCK(400, as_uint(shift)); // else the SLP vectorizer pairs it with sample 0
     const size_t row = (size_t)clamp(y0 - CPU_GUARD + r, 0, height - 1) * width;
-    __global const float* samples;
-    if (border) {
-        samples = depth + (row + (size_t)clamp(x0 - CPU_GUARD + (int)x, 0, width - 1)) * MSM_SAMPLES;
-    } else {
-        samples = depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
-        samples += x * MSM_SAMPLES;
-    }
+    __global const float* samples = input_texel(depth, row, border, x0, width, x);
 #if MSM_LAYERS
     // The same texel of layer 0 (layer k lies k * layer_stride floats further), addressed
     // like the depth samples.
     const size_t layer_stride = (size_t)width * height * MSM_SAMPLES;
-    __global const float* layer_z;
-    __global const float* layer_a;
-    if (border) {
-        const size_t at = (row + (size_t)clamp(x0 - CPU_GUARD + (int)x, 0, width - 1)) * MSM_SAMPLES;
-        layer_z = layer_depth + at;
-        layer_a = layer_opacity + at;
-    } else {
-        layer_z = layer_depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
-        layer_z += x * MSM_SAMPLES;
-        layer_a = layer_opacity + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
-        layer_a += x * MSM_SAMPLES;
-    }
+    __global const float* layer_z = input_texel(layer_depth, row, border, x0, width, x);
+    __global const float* layer_a = input_texel(layer_opacity, row, border, x0, width, x);
     msm_moments sum = cpu_translucent_sample(samples, layer_z, layer_a, layer_stride, 0, shift, texture, x, zero);
 #pragma unroll
     for (int s = 1; s < MSM_SAMPLES; ++s) {
@@ -300,10 +288,7 @@ static inline void resolve_row(__global const float* depth, int width, int heigh
 #endif
     const msm_moments m = msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
     __local float* out = resolved + CPU_BUFFER(r, 4 * CPU_ROW_PLANE);
-    out[x] = m.b1;
-    (out + CPU_ROW_PLANE)[x] = m.b2;
-    (out + 2 * CPU_ROW_PLANE)[x] = m.b3;
-    (out + 3 * CPU_ROW_PLANE)[x] = m.b4;
+    MSM_STORE4(out, CPU_ROW_PLANE, x, m.b1, m.b2, m.b3, m.b4);
 }
 
 // 9-tap sum of v(0..8) with weights w4 w3 w2 w1 w0 w1 w2 w3 w4, the first tap innermost
@@ -437,13 +422,6 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 #define CPU_WORDS 1
 #endif
 
-// The moments (or nlq values) work-item x left in `filtered`.
-#define CPU_LOAD4(a, b, c, d)                                                                 \
-    a = filtered[x];                                                                          \
-    b = (filtered + CPU_IN_W)[x];                                                             \
-    c = (filtered + 2 * CPU_IN_W)[x];                                                         \
-    d = (filtered + 3 * CPU_IN_W)[x]
-
 // Flattened: every call inside is inlined (the compiler would keep the encoders, called
 // from several phases, out of line, and a call stops the vectorization).
 // The buffers are `restrict` and the row is read here: then the compiler knows that the
@@ -481,28 +459,30 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
         }
         return;
     }
-#if MSM_FORMAT == 1 || MSM_FORMAT == 2
-#if MSM_FORMAT == 1
-    msm_moments m;
-    CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
-#define CPU_ENCODE msm_encode_msm64(m)
-#else
+#if CPU_SHIFTED
     if (phase == 0) {
-        // Algorithm 2 (with the tile's shift), in place.
+        // Algorithm 2 (with the tile's shift): the nlq values replace the moments in `filtered`.
         msm_moments m;
-        CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
+        MSM_LOAD4(m.b1, m.b2, m.b3, m.b4, filtered, CPU_IN_W, x);
         const float shift = tile_shift(shift_of, zero, r);
         CPU_END_BLOCK(401, as_uint(shift));
         const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift, texture, x, zero);
-        filtered[x] = n.y1;
-        (filtered + CPU_IN_W)[x] = n.y2;
-        (filtered + 2 * CPU_IN_W)[x] = n.v2;
-        (filtered + 3 * CPU_IN_W)[x] = n.xi4;
+        MSM_STORE4(filtered, CPU_IN_W, x, n.y1, n.y2, n.v2, n.xi4);
         return;
     }
+    // The encoder's phases count from 0 after it.
     --phase;
     msm_nlq n;
-    CPU_LOAD4(n.y1, n.y2, n.v2, n.xi4);
+    MSM_LOAD4(n.y1, n.y2, n.v2, n.xi4, filtered, CPU_IN_W, x);
+#elif MSM_FORMAT == 1
+    msm_moments m;
+    MSM_LOAD4(m.b1, m.b2, m.b3, m.b4, filtered, CPU_IN_W, x);
+#endif
+#if MSM_FORMAT == 1 || MSM_FORMAT == 2
+    // The two 32-bit words of the 64-bit formats, 16 bits a phase.
+#if MSM_FORMAT == 1
+#define CPU_ENCODE msm_encode_msm64(m)
+#else
 #define CPU_ENCODE msm_encode_nlq64(n)
 #endif
     if (phase == 0) word0[x] = CPU_ENCODE.w0 & 0xffffu;
@@ -511,22 +491,8 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     if (phase == 3) (words + 3 * CPU_IN_W)[x] = CPU_ENCODE.w1 & 0xffff0000u;
 #undef CPU_ENCODE
 #elif MSM_FORMAT == 3
-    if (phase == 0) {
-        msm_moments m;
-        CPU_LOAD4(m.b1, m.b2, m.b3, m.b4);
-        const float shift = tile_shift(shift_of, zero, r);
-        CPU_END_BLOCK(401, as_uint(shift));
-        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift, texture, x, zero);
-        filtered[x] = n.y1;
-        (filtered + CPU_IN_W)[x] = n.y2;
-        (filtered + 2 * CPU_IN_W)[x] = n.v2;
-        (filtered + 3 * CPU_IN_W)[x] = n.xi4;
-        return;
-    }
-    msm_nlq n;
-    CPU_LOAD4(n.y1, n.y2, n.v2, n.xi4);
-    if (phase == 1) word0[x] = msm_encode_nlq32(n) & 0x1fc0u;              // sqrt(v2)
-    if (phase == 2) word0[x] |= msm_encode_nlq32(n) & 0xffffe03fu;         // folded depths, Psi4
+    if (phase == 0) word0[x] = msm_encode_nlq32(n) & 0x1fc0u;              // sqrt(v2)
+    if (phase == 1) word0[x] |= msm_encode_nlq32(n) & 0xffffe03fu;         // folded depths, Psi4
 #endif
 }
 

@@ -21,10 +21,7 @@
 
 static inline msm_moments load_moments(__global const float* moments, size_t texel) {
     msm_moments m;
-    m.b1 = moments[4 * texel + 0];
-    m.b2 = moments[4 * texel + 1];
-    m.b3 = moments[4 * texel + 2];
-    m.b4 = moments[4 * texel + 3];
+    MSM_LOAD4(m.b1, m.b2, m.b3, m.b4, moments, 1, 4 * texel);
     return m;
 }
 

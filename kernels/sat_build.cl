@@ -55,10 +55,7 @@ static inline __attribute__((always_inline)) msm_sat_sum source_texel(__global c
     return msm_sat_texel_of_depth(source, texel, MSM_SAMPLES, MSM_DEPTH_ZERO_ONE, scale);
 #else
     msm_sat_sum t;
-    t.c0 = source[4 * texel + 0];
-    t.c1 = source[4 * texel + 1];
-    t.c2 = source[4 * texel + 2];
-    t.c3 = source[4 * texel + 3];
+    MSM_LOAD4(t.c0, t.c1, t.c2, t.c3, source, 1, 4 * texel);
     return t;
 #endif
 }

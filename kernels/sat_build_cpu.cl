@@ -265,10 +265,7 @@ ALWAYS_INLINE texels16 full_texels16(__global const uint* texels, size_t first, 
 static inline msm_sat_sum single_texel(__global const uint* texels, size_t texel, uint scale) {
     (void)scale;
     msm_sat_sum t;
-    t.c0 = texels[4 * texel + 0];
-    t.c1 = texels[4 * texel + 1];
-    t.c2 = texels[4 * texel + 2];
-    t.c3 = texels[4 * texel + 3];
+    MSM_LOAD4(t.c0, t.c1, t.c2, t.c3, texels, 1, 4 * texel);
     return t;
 }
 #endif
@@ -284,10 +281,7 @@ ALWAYS_INLINE texels16 row_texels16(__global const SOURCE_TYPE* source, int widt
     for (int i = 0; i < LANES; ++i) {
         msm_sat_sum t = msm_sat_sum_zero();
         if (x0 + i < width) t = single_texel(source, first + (size_t)i, scale);
-        lanes[i] = t.c0;
-        lanes[LANES + i] = t.c1;
-        lanes[2 * LANES + i] = t.c2;
-        lanes[3 * LANES + i] = t.c3;
+        MSM_STORE4(lanes, LANES, i, t.c0, t.c1, t.c2, t.c3);
     }
     texels16 t;
     t.c0 = vload16(0, lanes);
@@ -320,10 +314,9 @@ static inline void store_row(texels16 out, __global uint* table, int width, int 
     vstore16(out.c2, 2, lanes);
     vstore16(out.c3, 3, lanes);
     for (int i = 0; i < width - x0; ++i) {
-        words[4 * i + 0] = lanes[i];
-        words[4 * i + 1] = lanes[LANES + i];
-        words[4 * i + 2] = lanes[2 * LANES + i];
-        words[4 * i + 3] = lanes[3 * LANES + i];
+        msm_sat_sum texel;
+        MSM_LOAD4(texel.c0, texel.c1, texel.c2, texel.c3, lanes, LANES, i);
+        MSM_STORE4(words, 1, 4 * i, texel.c0, texel.c1, texel.c2, texel.c3);
     }
 }
 
