@@ -66,6 +66,33 @@ protected:
     }
     std::string bytes_of(const std::string& file) const { return msmcl::io::read_whole_file(file); }
 
+    /// Where the value of the dataWindow attribute (a box2i: min x, min y, max x, max y)
+    /// starts in the bytes of an EXR file.
+    static std::size_t data_window_at(const std::string& bytes) {
+        const std::string key("dataWindow\0box2i\0", 17);
+        return bytes.find(key) + key.size() + 4; // after the size field
+    }
+    /// A real 4x3 depth file (written as small.exr): its bytes and its data_window_at.
+    struct SmallExr {
+        std::string bytes;
+        std::size_t box_at = 0;
+    };
+    SmallExr small_exr() {
+        msmcl::io::write_depth_exr(path("small.exr"), random_depth(4, 3, 1, DepthRange::zero_one));
+        const std::string bytes = bytes_of(path("small.exr"));
+        return {bytes, data_window_at(bytes)};
+    }
+    /// `small` with its data window's max corner patched to (max_x, max_y) (the offset table
+    /// and data stay those of 4x3), written as `name`; its path.
+    std::string with_data_window(const SmallExr& small, const std::string& name, std::int32_t max_x,
+                                 std::int32_t max_y) const {
+        std::string patched = small.bytes;
+        std::memcpy(&patched[small.box_at + 8], &max_x, 4);
+        std::memcpy(&patched[small.box_at + 12], &max_y, 4);
+        std::ofstream(path(name), std::ios::binary) << patched;
+        return path(name);
+    }
+
     /// A depth map with values exactly representable in HALF (k/1024).
     DepthImage random_depth(int width, int height, int samples, DepthRange range) {
         DepthImage depth;
@@ -377,20 +404,10 @@ TEST_F(IoTest, DepthReaderNamesTheFileAndTheProblem) {
                        "data window 65537 x 1 is too large");
 
     // Data windows patched in the header: empty (OpenEXR refuses it) and absurd (we do).
-    msmcl::io::write_depth_exr(path("small.exr"), random_depth(4, 3, 1, DepthRange::zero_one));
-    const std::string small = bytes_of(path("small.exr"));
-    const std::string key("dataWindow\0box2i\0", 17);
-    const std::size_t box_at = small.find(key) + key.size() + 4; // after the size field
-    ASSERT_LT(box_at, small.size());
-    auto patch_window = [&](const std::string& name, std::int32_t max_x, std::int32_t max_y) {
-        std::string patched = small;
-        std::memcpy(&patched[box_at + 8], &max_x, 4);
-        std::memcpy(&patched[box_at + 12], &max_y, 4);
-        std::ofstream(path(name), std::ios::binary) << patched;
-        return path(name);
-    };
-    expect_input_error(read(patch_window("empty.exr", -1, 2)), path("empty.exr"), "empty data window");
-    expect_input_error(read(patch_window("absurd.exr", 3, 99999)), path("absurd.exr"),
+    const SmallExr small = small_exr();
+    ASSERT_LT(small.box_at, small.bytes.size());
+    expect_input_error(read(with_data_window(small, "empty.exr", -1, 2)), path("empty.exr"), "empty data window");
+    expect_input_error(read(with_data_window(small, "absurd.exr", 3, 99999)), path("absurd.exr"),
                        "data window 4 x 100000 is too large (at most 65536 per side)");
 
     // Bad values: the first bad texel and its value are named.
@@ -416,49 +433,39 @@ TEST_F(IoTest, ImageSizesAreCappedAndCheckedAgainstTheFile) {
     // A real 4x3 file whose header is patched to claim a larger data window (the offset
     // table and data stay those of 4x3): refused from the header alone, before anything
     // of the claimed size is allocated.
-    msmcl::io::write_depth_exr(path("small.exr"), random_depth(4, 3, 1, DepthRange::zero_one));
-    const std::string small = bytes_of(path("small.exr"));
-    const std::string key("dataWindow\0box2i\0", 17);
-    const std::size_t box_at = small.find(key) + key.size() + 4; // after the size field
-    ASSERT_LT(box_at, small.size());
-    auto patch_window = [&](const std::string& name, std::int32_t max_x, std::int32_t max_y) {
-        std::string patched = small;
-        std::memcpy(&patched[box_at + 8], &max_x, 4);
-        std::memcpy(&patched[box_at + 12], &max_y, 4);
-        std::ofstream(path(name), std::ios::binary) << patched;
-        return path(name);
-    };
+    const SmallExr small = small_exr();
+    ASSERT_LT(small.box_at, small.bytes.size());
     const auto depth_of = [](const std::string& file) {
         return [file] { msmcl::io::read_depth_exr(file, DepthRange::zero_one); };
     };
     // 60000^2 texels: over the texel limit (2^28).
-    expect_input_error(depth_of(patch_window("huge.exr", 59999, 59999)), path("huge.exr"),
+    expect_input_error(depth_of(with_data_window(small, "huge.exr", 59999, 59999)), path("huge.exr"),
                        "60000 x 60000 texels exceed the limit of 268435456 (MSMCL_MAX_TEXELS)");
     // 16000^2 FLOAT texels fit the limits (1.02e9 bytes), but not the few hundred bytes of
     // the file even at zlib's largest expansion.
-    const std::string claims = patch_window("claims.exr", 15999, 15999);
+    const std::string claims = with_data_window(small, "claims.exr", 15999, 15999);
     expect_input_error(depth_of(claims), claims, "the header claims 16000 x 16000 texels (1024000000 bytes of data)");
     expect_input_error([&] { msmcl::io::read_exr(claims); }, claims, "more than the");
     // An attribute whose size field claims 2 GB: refused before OpenEXR would allocate it.
-    std::string claims_size = small;
+    std::string claims_size = small.bytes;
     const std::int32_t huge_size = 0x7fffffff;
-    std::memcpy(&claims_size[box_at - 4], &huge_size, 4);
+    std::memcpy(&claims_size[small.box_at - 4], &huge_size, 4);
     std::ofstream(path("attribute.exr"), std::ios::binary) << claims_size;
     expect_input_error(depth_of(path("attribute.exr")), path("attribute.exr"),
                        "attribute dataWindow (box2i) claims 2147483647 bytes");
     // A size field that disagrees with the value OpenEXR reads by the type's own layout
     // (here the data window's box2i, 16 bytes): refused, since OpenEXR would lose step
     // with the size fields and take later bytes for sizes.
-    std::string box_size = small;
+    std::string box_size = small.bytes;
     const std::int32_t box_plus_one = 17;
-    std::memcpy(&box_size[box_at - 4], &box_plus_one, 4);
+    std::memcpy(&box_size[small.box_at - 4], &box_plus_one, 4);
     std::ofstream(path("box_size.exr"), std::ios::binary) << box_size;
     expect_input_error(depth_of(path("box_size.exr")), path("box_size.exr"),
                        "attribute dataWindow (box2i) has a size field of 17 bytes but a value of 16");
     // A string vector whose string claims 2 GB inside an 8-byte value: OpenEXR would size
     // the string by that length before reading it.
     const std::string strings("names\0stringvector\0\x08\0\0\0\xff\xff\xff\x7f" "abcd", 31);
-    std::ofstream(path("strings.exr"), std::ios::binary) << small.substr(0, 8) + strings + small.substr(8);
+    std::ofstream(path("strings.exr"), std::ios::binary) << small.bytes.substr(0, 8) + strings + small.bytes.substr(8);
     expect_input_error(depth_of(path("strings.exr")), path("strings.exr"),
                        "attribute names (stringvector) has a size field of 8 bytes");
     // Tiles of 1 x 1 over 8192 x 8192: refused before OpenEXR sizes its tile tables.
@@ -468,7 +475,7 @@ TEST_F(IoTest, ImageSizesAreCappedAndCheckedAgainstTheFile) {
     std::string tiles = bytes_of(path("tiled.exr"));
     const std::string tiles_key("tiles\0tiledesc\0", 15);
     const std::size_t tiles_at = tiles.find(tiles_key) + tiles_key.size() + 4;
-    const std::size_t window_at = tiles.find(key) + key.size() + 4;
+    const std::size_t window_at = data_window_at(tiles);
     ASSERT_LT(tiles_at, tiles.size());
     const std::uint32_t one = 1;
     const std::int32_t last = 8191;

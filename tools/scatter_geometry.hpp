@@ -102,20 +102,16 @@ inline double cast_ray(const Geometry& geometry, const V3& origin, const V3& dir
 struct Frame {
     V3 right, up, forward;
 };
-inline Frame light_frame_of(const ScatterLight& light) {
+/// The axes of a view looking along `forward` with `up` roughly up.
+inline Frame frame_of(const V3& forward, const V3& up) {
     Frame f;
-    f.forward = unit(light.direction);
-    f.right = unit(cross(f.forward, light.up));
+    f.forward = unit(forward);
+    f.right = unit(cross(f.forward, up));
     f.up = cross(f.right, f.forward);
     return f;
 }
-inline Frame camera_frame_of(const ScatterCamera& camera) {
-    Frame f;
-    f.forward = unit(camera.forward);
-    f.right = unit(cross(f.forward, camera.up));
-    f.up = cross(f.right, f.forward);
-    return f;
-}
+inline Frame light_frame_of(const ScatterLight& light) { return frame_of(light.direction, light.up); }
+inline Frame camera_frame_of(const ScatterCamera& camera) { return frame_of(camera.forward, camera.up); }
 
 /// The light's shadow map: `samples` rays per texel (offsets on a small rotated grid; one
 /// sample = the texel centre), depth in [0,1] of the first hit, 1 where nothing is hit,
