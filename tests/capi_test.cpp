@@ -656,8 +656,8 @@ TEST_F(Capi, SoftShadeEqualsCpp) {
     EXPECT_NE(std::string(msmcl_last_error_message()).find("table"), std::string::npos) << msmcl_last_error_message();
 }
 
-// The device version reads the table from a buffer and keeps the queue and event
-// semantics of the other device calls (wait list, done event).
+// The device version reads the table from a buffer or an image and keeps the queue and
+// event semantics of the other device calls (wait list, done event).
 TEST_F(Capi, SoftShadeDeviceEqualsCpp) {
     msmcl::SatOptions sat;
     sat.max_kernel_texels = 100;
@@ -701,7 +701,22 @@ TEST_F(Capi, SoftShadeDeviceEqualsCpp) {
     clReleaseEvent(gate);
     EXPECT_EQ(read_buffer<float>(queue(), c_intensity, count), msmcl::soft_shade(*context_, table, receivers, cpp));
 
-    // Errors: the C++ API's, an image table, NULL arguments named.
+    // The table in an image, as msmcl_build_sat_device writes one.
+    cl_mem image_table = image(msmcl_sat_image_format());
+    msmcl_sat_options c_sat;
+    msmcl_sat_options_init(&c_sat);
+    c_sat.max_kernel_texels = 100;
+    const msmcl_device_depth c_depth{buffer(values * 4, depth_.depth.data()), width, height, samples,
+                                     MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    ASSERT_EQ(msmcl_build_sat_device(c_context_, &c_depth, image_table, &c_sat, nullptr), MSMCL_SUCCESS);
+    const msmcl_enqueue blocking{nullptr, nullptr, 0, nullptr, 1};
+    ASSERT_EQ(msmcl_soft_shade_device(c_context_, image_table, width, height, 100, c_receivers, count, c_intensity,
+                                      &options, &blocking),
+              MSMCL_SUCCESS)
+        << msmcl_last_error_message();
+    EXPECT_EQ(read_buffer<float>(queue(), c_intensity, count), msmcl::soft_shade(*context_, table, receivers, cpp));
+
+    // Errors: the C++ API's (buffer and image), NULL arguments named.
     const msmcl::DeviceSat cpp_table{c_table, width, height, 100};
     msmcl_soft_options bad = options;
     bad.search_size = 11;
@@ -716,11 +731,13 @@ TEST_F(Capi, SoftShadeDeviceEqualsCpp) {
                   msmcl::soft_shade(*context_, msmcl::DeviceSat{c_table, width, height, 1}, c_receivers, count,
                                     c_intensity, msmcl::SoftShadowOptions{});
               }));
-    cl_mem image_table = image(msmcl_sat_image_format());
-    EXPECT_EQ(msmcl_soft_shade_device(c_context_, image_table, width, height, 100, c_receivers, count, c_intensity,
-                                      nullptr, nullptr),
-              MSMCL_ERROR_INPUT);
-    EXPECT_NE(std::string(msmcl_last_error_message()).find("buffer"), std::string::npos) << msmcl_last_error_message();
+    EXPECT_EQ(c_outcome(msmcl_soft_shade_device(c_context_, image_table, width + 1, height, 100, c_receivers, count,
+                                                c_intensity, nullptr, nullptr)),
+              cpp_outcome([&] {
+                  msmcl::soft_shade(*context_, msmcl::DeviceSatImage{image_table, width + 1, height, 100}, c_receivers,
+                                    count, c_intensity, msmcl::SoftShadowOptions{});
+              }));
+    EXPECT_EQ(msmcl_last_error_message(), std::string("soft: the table image is 37x29, smaller than the 38x29 table"));
     EXPECT_EQ(msmcl_soft_shade_device(c_context_, c_table, width, height, 100, nullptr, count, c_intensity, nullptr,
                                       nullptr),
               MSMCL_ERROR_INVALID_ARGUMENT);

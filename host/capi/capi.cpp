@@ -877,11 +877,13 @@ msmcl_status msmcl_soft_shade_device(msmcl_context* context, cl_mem table, int w
                                    (!table ? "table" : !receivers_uvz ? "receivers_uvz" : "intensity") + " is NULL"};
         const msmcl::SoftShadowOptions soft_options = to_soft_options(options, call);
         const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
-        // The C++ API reads tables from buffers only.
-        if (!is_buffer(table))
-            throw msmcl::input_error(std::string(call) + ": the table must be a buffer, not an image");
-        const msmcl::DeviceSat sat{table, width, height, max_kernel_texels};
-        msmcl::soft_shade(context->context, sat, receivers_uvz, count, intensity, soft_options, plumbing);
+        // A buffer, or an image the C++ API stages into one.
+        if (is_buffer(table))
+            msmcl::soft_shade(context->context, msmcl::DeviceSat{table, width, height, max_kernel_texels},
+                              receivers_uvz, count, intensity, soft_options, plumbing);
+        else
+            msmcl::soft_shade(context->context, msmcl::DeviceSatImage{table, width, height, max_kernel_texels},
+                              receivers_uvz, count, intensity, soft_options, plumbing);
     });
 }
 

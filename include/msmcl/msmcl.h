@@ -364,9 +364,9 @@ MSMCL_C_API msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t
                                           uint32_t max_kernel_texels, const float* u, const float* v, const float* z,
                                           size_t count, const msmcl_soft_options* options, float* intensity);
 
-/* Device version: `table` a buffer of 4 * width * height uint32 (as msmcl_build_sat_device
- * writes it for N = max_kernel_texels; an image is MSMCL_ERROR_INPUT), `receivers_uvz` 3 *
- * count floats planar, `intensity` count floats. `options` and `enqueue` may be NULL. */
+/* Device version: `table` as msmcl_build_sat_device writes it for N = max_kernel_texels (a
+ * buffer, or a 2D image of CL_RGBA/CL_UNSIGNED_INT32 of at least width x height), `receivers_uvz`
+ * 3 * count floats planar, `intensity` count floats. `options` and `enqueue` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_soft_shade_device(msmcl_context* context, cl_mem table, int width, int height,
                                                  uint32_t max_kernel_texels, cl_mem receivers_uvz, size_t count,
                                                  cl_mem intensity, const msmcl_soft_options* options,
