@@ -364,9 +364,8 @@ MSMCL_C_API msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t
                                           uint32_t max_kernel_texels, const float* u, const float* v, const float* z,
                                           size_t count, const msmcl_soft_options* options, float* intensity);
 
-/* Device version: `table` as msmcl_build_sat_device writes it for N = max_kernel_texels (a
- * buffer, or a 2D image of CL_RGBA/CL_UNSIGNED_INT32 of at least width x height), `receivers_uvz`
- * 3 * count floats planar, `intensity` count floats. `options` and `enqueue` may be NULL. */
+/* Device version: `table` a buffer or image as msmcl_build_sat_device writes it for N =
+ * max_kernel_texels, the rest as msmcl_shade_device. `options` and `enqueue` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_soft_shade_device(msmcl_context* context, cl_mem table, int width, int height,
                                                  uint32_t max_kernel_texels, cl_mem receivers_uvz, size_t count,
                                                  cl_mem intensity, const msmcl_soft_options* options,
@@ -400,20 +399,15 @@ MSMCL_C_API msmcl_status msmcl_build_sat_array(msmcl_context* context, const flo
 MSMCL_C_API msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_device_depth* depth,
                                                       int layers, cl_mem table, const msmcl_sat_options* options,
                                                       const msmcl_enqueue* enqueue);
-
-
-/* msmcl_filter_array with translucent layers: each layer's `depth` and `opacity` hold
- * layers * width * height * samples floats, laid out as `depth` (layer_count at most
- * MSMCL_MAX_TRANSLUCENT_LAYERS; `translucent` NULL only with count 0: msmcl_filter_array's
- * bits). Validated as msmcl_filter_layered. `options` may be NULL. */
+/* msmcl_filter_array under translucent layers (as msmcl_filter_layered), each layer's `depth`
+ * and `opacity` laid out as `depth`, all array layers. `options` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_filter_array_layered(msmcl_context* context, const float* depth, int width,
                                                     int height, int samples, int layers,
                                                     const msmcl_translucent_layer* translucent,
                                                     size_t layer_count, const msmcl_filter_options* options,
                                                     void* texture, size_t texture_bytes);
-/* Device version: `depth->memory`, `texture` and the layer buffers are buffers; the layer
- * buffers hold translucent layer k of array layer a at a * translucent->count + k, each as
- * one depth map. `translucent` NULL or count 0 is msmcl_filter_array_device. */
+/* Device version, buffers only: translucent layer k of array layer a at a * count + k in the
+ * layer buffers. `translucent` NULL or count 0 is msmcl_filter_array_device. */
 MSMCL_C_API msmcl_status msmcl_filter_array_layered_device(msmcl_context* context, const msmcl_device_depth* depth,
                                                            int layers, const msmcl_device_layers* translucent,
                                                            cl_mem texture, const msmcl_filter_options* options,
@@ -500,44 +494,40 @@ typedef struct msmcl_scatter_options {
 } msmcl_scatter_options;
 
 MSMCL_C_API void msmcl_scatter_options_init(msmcl_scatter_options* options);
-/* Bytes of a prefiltered map: 8 * rectified_width * rectified_height; 0 for a NULL scene
- * or a non-positive size. */
+/* Bytes of a prefiltered map, 8 * rectified_width * rectified_height (0 for NULL or an empty size). */
 MSMCL_C_API size_t msmcl_scatter_map_bytes(const msmcl_scatter_scene* scene);
 
-/* Host shadow map (width x height x samples floats, as a host depth map) and camera depth
- * (camera.width * camera.height floats, row-major) in, radiance out (as many floats).
- * Everything is validated (MSMCL_ERROR_INPUT names the first bad value). `options` may be NULL. */
+/* Host shadow map (as a host depth map) and camera depth (camera.width * camera.height floats)
+ * in, as many radiances out; all validated. `options` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_scatter(msmcl_context* context, const msmcl_scatter_scene* scene,
                                        const float* shadow_depth, int width, int height, int samples,
                                        const float* camera_depth, const msmcl_scatter_options* options,
                                        float* radiance);
-/* Its two halves. Prefilter: the prefiltered map into `map` (map_bytes at least
- * msmcl_scatter_map_bytes(scene); layout of include/msmcl/scatter.hpp, ScatterMap). */
+/* Its first half: the prefiltered map (layout of ScatterMap::words) into `map` of at least
+ * msmcl_scatter_map_bytes(scene) bytes. `options` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_scatter_prefilter(msmcl_context* context, const msmcl_scatter_scene* scene,
                                                  const float* shadow_depth, int width, int height, int samples,
                                                  const msmcl_scatter_options* options, void* map, size_t map_bytes);
-/* Evaluate: radiance per camera pixel from a map msmcl_scatter_prefilter wrote for the same
- * scene and options.moments. `options` may be NULL. */
+/* Its second half: radiances from a map msmcl_scatter_prefilter wrote for this scene and
+ * options.moments. `options` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_scatter_evaluate(msmcl_context* context, const msmcl_scatter_scene* scene,
                                                 const void* map, size_t map_bytes, const float* camera_depth,
                                                 const msmcl_scatter_options* options, float* radiance);
 
-/* Device prefilter, filtered: `moment_map` a buffer of map_width x map_height moments128
- * texels (msmcl_filter_device with format moments128, sigma = the filter sigma wanted and
- * depth_range = light.depth_range), `scatter_map` a buffer of msmcl_scatter_map_bytes(scene).
- * `moments` 4 or 6. `enqueue` may be NULL. */
+/* Filtered prefilter on the device: `moment_map` a moments128 buffer (msmcl_filter_device, depth
+ * range the light's), `scatter_map` msmcl_scatter_map_bytes(scene). `enqueue` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_scatter_prefilter_device(msmcl_context* context, const msmcl_scatter_scene* scene,
                                                         cl_mem moment_map, int map_width, int map_height,
                                                         int moments, cl_mem scatter_map,
                                                         const msmcl_enqueue* enqueue);
-/* Device prefilter, unfiltered (sample 0 of the nearest texel): `shadow_map->memory` a
- * buffer (an image is MSMCL_ERROR_INPUT). `enqueue` may be NULL. */
+/* Unfiltered (sample 0 of the nearest texel): `shadow_map->memory` a buffer (an image is
+ * MSMCL_ERROR_INPUT). `enqueue` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_scatter_prefilter_depth_device(msmcl_context* context,
                                                               const msmcl_scatter_scene* scene,
                                                               const msmcl_device_depth* shadow_map, int moments,
                                                               cl_mem scatter_map, const msmcl_enqueue* enqueue);
-/* Device evaluation: `camera_depth` and `radiance` buffers of camera.width * camera.height
- * floats; `beta` as msmcl_scatter_options. Values are not validated on the device. */
+/* Evaluation on the device: `camera_depth` and `radiance` camera.width * camera.height floats
+ * (not validated), `beta` as in msmcl_scatter_options. `enqueue` may be NULL. */
 MSMCL_C_API msmcl_status msmcl_scatter_evaluate_device(msmcl_context* context, const msmcl_scatter_scene* scene,
                                                        cl_mem scatter_map, int moments, cl_mem camera_depth,
                                                        cl_mem radiance, float beta, const msmcl_enqueue* enqueue);
