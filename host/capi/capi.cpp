@@ -107,6 +107,16 @@ msmcl::DepthRange to_depth_range(const msmcl_depth_range& range, const char* cal
     throw invalid_argument{std::string(call) + ": unknown depth range " + std::to_string(enum_value(range))};
 }
 
+msmcl::FilterKernel to_filter_kernel(const msmcl_filter_kernel& kernel, const char* call) {
+    switch (enum_value(kernel)) {
+    case MSMCL_FILTER_KERNEL_AUTOMATIC: return msmcl::FilterKernel::automatic;
+    case MSMCL_FILTER_KERNEL_FUSED_PAPER: return msmcl::FilterKernel::fused_paper;
+    case MSMCL_FILTER_KERNEL_THREE_PASS: return msmcl::FilterKernel::three_pass;
+    case MSMCL_FILTER_KERNEL_FUSED_CPU: return msmcl::FilterKernel::fused_cpu;
+    }
+    throw invalid_argument{std::string(call) + ": unknown filter kernel " + std::to_string(enum_value(kernel))};
+}
+
 msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, const char* call) {
     msmcl_filter_options c;
     msmcl_filter_options_init(&c);
@@ -115,14 +125,7 @@ msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, cons
     result.format = to_format(c.format, call);
     result.sigma = c.sigma;
     result.depth_range = to_depth_range(c.depth_range, call);
-    switch (enum_value(c.kernel)) {
-    case MSMCL_FILTER_KERNEL_AUTOMATIC: result.kernel = msmcl::FilterKernel::automatic; break;
-    case MSMCL_FILTER_KERNEL_FUSED_PAPER: result.kernel = msmcl::FilterKernel::fused_paper; break;
-    case MSMCL_FILTER_KERNEL_THREE_PASS: result.kernel = msmcl::FilterKernel::three_pass; break;
-    case MSMCL_FILTER_KERNEL_FUSED_CPU: result.kernel = msmcl::FilterKernel::fused_cpu; break;
-    default:
-        throw invalid_argument{std::string(call) + ": unknown filter kernel " + std::to_string(enum_value(c.kernel))};
-    }
+    result.kernel = to_filter_kernel(c.kernel, call);
     return result;
 }
 
@@ -495,11 +498,7 @@ msmcl::ScatterOptions to_scatter_options(const msmcl_scatter_options* options, c
     default:
         throw invalid_argument{std::string(call) + ": unknown scatter kernel " + std::to_string(enum_value(c.kernel))};
     }
-    // The filter kernel as msmcl_filter_options reads it.
-    msmcl_filter_options filter;
-    msmcl_filter_options_init(&filter);
-    filter.kernel = c.filter_kernel;
-    result.filter_kernel = to_filter_options(&filter, call).kernel;
+    result.filter_kernel = to_filter_kernel(c.filter_kernel, call);
     return result;
 }
 
