@@ -16,6 +16,8 @@
 //   SAT         RGBA32_UINT        wrapping prefix sums: texelFetch only, never filtered
 //   6 moments   two RGB10_A2 UNORM odd powers, even powers: bilinear filtering allowed
 //   blue noise  RG8UI, 64 x 4096   msmcl::blue_noise_textures() for the dithered lookup
+// Texture arrays (cascades): msm_lookup_<format>_array(map, layer, ...) shade a layer of a
+// sampler2DArray / usampler2DArray exactly as the 2D lookups shade a 2D map.
 // Depths: zf = msm_internal_depth(fragment depth as rendered, 1 for [0,1]) - depth bias.
 // Shadow intensity: 0 lit, 1 shadowed.
 //

@@ -3,7 +3,8 @@
 //   cmake -DINPUT=shaders/msm.glsl -DOUTPUT=shaders/msm.hlsl -P cmake/glsl_to_hlsl.cmake
 // Same functions, names and operations as the GLSL file (see its header for the texture
 // formats, how to sample them and the accuracy notes); textures are Texture2D<float4> /
-// Texture2D<uint4> read with Load, so every sampler state works.
+// Texture2D<uint4> (Texture2DArray for the _array lookups) read with Load, so every sampler
+// state works.
 #ifndef MSM_HLSL
 #define MSM_HLSL
 
