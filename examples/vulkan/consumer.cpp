@@ -546,7 +546,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     shade_command->add_option("--depth-range", shade.depth_range, "0,1 or -1,1 (default: the map's)");
     shade_command->add_option("--layer", shade.layer,
-                              "texture arrays: shade layer L (channel Y), or all layers (default; channels layer<i>.Y)");
+                              "texture arrays: shade layer L (channel Y), or all layers (default; channels layer<i>.Y)")
+        ->type_name("L|all");
     shade_command->add_flag("--accurate", shade.accurate,
                             "moments128: shade in float-float (msm_lookup_moments128_accurate), as msmcl does");
 
