@@ -192,7 +192,10 @@ TEST_F(ArrayCli, FilterArrayLayersAreTheSingleFileOutputsInEveryFormat) {
     // msmcl info reports the layers.
     const CliRun info = cli({"info", "array_nlq64.ktx2"});
     ASSERT_EQ(info.exit_code, 0) << info.err;
-    EXPECT_NE(info.out.find("layers 4"), std::string::npos) << info.out;
+    EXPECT_NE(info.out.find("layers 4 (texture array)"), std::string::npos) << info.out;
+    const CliRun json = cli({"info", "array_nlq32.dds", "--json"});
+    ASSERT_EQ(json.exit_code, 0) << json.err;
+    EXPECT_NE(json.out.find("\"texture_array\": true"), std::string::npos) << json.out;
 }
 
 TEST_F(ArrayCli, SatArrayLayersAreTheSingleFileTables) {
@@ -246,6 +249,9 @@ TEST_F(ArrayCli, OneInputIsAnArrayOfOneLayer) {
     const std::string plain_bytes = msmcl::io::read_whole_file(path("plain.ktx2"));
     EXPECT_EQ(array_bytes[32], 1);
     EXPECT_EQ(plain_bytes[32], 0);
+    const CliRun info = cli({"info", "one.ktx2"});
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_NE(info.out.find("layers 1 (texture array)"), std::string::npos) << info.out;
 }
 
 TEST_F(ArrayCli, MismatchedInputsAndBadFormsAreRefusedWithoutOutput) {
