@@ -123,6 +123,7 @@ done
 
 # Single scattering: light shafts through the openings of two sample scenes, from the
 # prefiltered 4- and 6-moment maps, and 128-sample ray marching of the hard shadow map.
+: >"$out/scatter_vs_marched.txt"
 for entry in hall:0.3 pergola:1.5; do
   IFS=: read -r name white <<<"$entry"
   "$tools/msmcl-scatter-scene" "$root/data/scatter/$name.json" --map-size 1024 --camera-width 640 --camera-height 480 \
@@ -141,8 +142,11 @@ for entry in hall:0.3 pergola:1.5; do
   # at +-0.1 (colour map and legend: tools/signed_difference.hpp).
   "$build/bench/msmcl-scatter-quality" compare "$out/${name}_scene.json" "$out/${name}_shadow.exr" \
     "$out/${name}_camera.exr" --steps 1024 --range 0.1 --truth "$out/${name}_marched1024.exr" \
-    "$out/${name}_scatter6.exr:$out/${name}_scatter6_diff.png" "$out/${name}_scatter4.exr:$out/${name}_scatter4_diff.png"
+    "$out/${name}_scatter6.exr:$out/${name}_scatter6_diff.png" "$out/${name}_scatter4.exr:$out/${name}_scatter4_diff.png" \
+    | tee -a "$out/scatter_vs_marched.txt"
   "$tools/msmcl-preview" "$out/${name}_marched1024.exr" "$out/${name}_marched1024.png" --white "$white"
+  # The truth, both moment counts and their differences in one figure with a numbered legend.
+  "$python" scripts/scatter_figure.py "$out" "$name" "$out/${name}_scatter_vs_marched.png"
 done
 
 # The quality table on the 1024^2 scenes: every format and VSM against 128-bit moments and

@@ -12,16 +12,7 @@ than PCSS, blue: darker, full colour at +-0.5; the colour map of tools/signed_di
 import argparse
 import re
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.image as mpimg  # noqa: E402
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.colors import LinearSegmentedColormap  # noqa: E402
-
-# tools/signed_difference.hpp: ColorBrewer RdBu (9 classes), white centre, blue = -range.
-ANCHORS = ["#2166ac", "#4393c3", "#92c5de", "#d1e5f0", "#ffffff", "#fddbc7", "#f4a582", "#d6604d", "#b2182b"]
-LEGEND_ROWS = 20  # the gap and bar the difference PNGs carry below the image
+from difference_figure import draw, load_png
 
 
 def statistics(path, scene):
@@ -46,12 +37,7 @@ def main():
     crop = [int(v) for v in args.crop.split(",")] if args.crop else None
 
     def load(name, legend=False):
-        image = mpimg.imread(f"{args.out_dir}/{args.scene}_{name}.png")
-        if legend:
-            image = image[:-LEGEND_ROWS]
-        if crop:
-            image = image[crop[1]:crop[3], crop[0]:crop[2]]
-        return image
+        return load_png(f"{args.out_dir}/{args.scene}_{name}.png", legend, crop)
 
     panels = [
         ("PCSS (double precision)", load("soft_pcss"), "gray"),
@@ -61,23 +47,7 @@ def main():
         ("published - PCSS (in light)", load("soft_published_diff_pm0.5", True), None),
         ("refined - PCSS (in light)", load("soft_diff_pm0.5", True), None),
     ]
-    height, width = panels[0][1].shape[:2]
-    figure, axes = plt.subplots(2, 3, figsize=(3 * width / 100, 2 * height / 100 + 0.9), dpi=100)
-    for axis, (title, image, cmap) in zip(axes.flat, panels):
-        axis.axis("off")
-        if image is None:
-            continue
-        axis.imshow(image, cmap=cmap, vmin=0, vmax=1, interpolation="nearest")
-        axis.set_title(title, fontsize=9)
-    # The legend of the difference panels, in the empty slot.
-    colormap = LinearSegmentedColormap.from_list("signed_difference", ANCHORS)
-    bar = figure.add_axes([0.06, 0.22, 0.25, 0.04])
-    figure.colorbar(plt.cm.ScalarMappable(cmap=colormap, norm=plt.Normalize(-0.5, 0.5)), cax=bar,
-                    orientation="horizontal", ticks=[-0.5, -0.25, 0, 0.25, 0.5])
-    bar.set_xlabel("method - PCSS in light: blue darker, red lighter (light leak)", fontsize=8)
-    bar.tick_params(labelsize=8)
-    figure.subplots_adjust(left=0.01, right=0.99, top=0.94, bottom=0.02, wspace=0.02, hspace=0.14)
-    figure.savefig(args.output, dpi=100)
+    draw(panels, args.output, 0.5, "method - PCSS in light: blue darker, red lighter (light leak)")
 
 
 if __name__ == "__main__":

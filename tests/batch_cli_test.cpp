@@ -67,12 +67,13 @@ protected:
     std::string path(const std::string& name) const { return (root_ / name).string(); }
 
     /// msmcl <arguments>, run in the test's folder (relative paths are the test's files).
-    CliRun cli(std::vector<std::string> arguments) {
+    /// `environment`: "NAME=VALUE" strings, or null for this process's environment.
+    CliRun cli(std::vector<std::string> arguments, const std::vector<std::string>* environment = nullptr) {
         arguments.insert(arguments.begin(), MSMCL_CLI_PATH);
         const std::string out = path("stdout.txt"), err = path("stderr.txt");
         const fs::path here = fs::current_path();
         fs::current_path(root_);
-        const int code = msmcl::testing::run_process(arguments, out, err);
+        const int code = msmcl::testing::run_process(arguments, out, err, environment);
         fs::current_path(here);
         CliRun run;
         run.exit_code = code;
@@ -383,6 +384,47 @@ TEST_F(BatchCli, DeviceAllSpreadsTheFilesOverEveryDevice) {
             ASSERT_EQ(cli({"filter", input, "one_" + input, "--format", "nlq64"}).exit_code, 0);
             EXPECT_EQ(bytes("out/" + input), bytes("one_" + input));
         }
+}
+
+TEST_F(BatchCli, DeviceAllOnTwoDevicesGivesTheSingleDeviceBytes) {
+    // PoCL makes two CPU devices of one machine when POCL_DEVICES names its driver twice: a
+    // real two-device batch (two contexts, two queues, files alternating) on any CI machine.
+    const std::vector<msmcl::DeviceInfo> devices = msmcl::list_devices();
+    if (devices.empty() || devices.front().platform_name.find("Portable Computing Language") == std::string::npos)
+        GTEST_SKIP() << "two devices are made with PoCL's POCL_DEVICES; the first platform is "
+                     << (devices.empty() ? "none" : devices.front().platform_name);
+    std::vector<std::string> environment;
+    for (char** variable = environ; *variable; ++variable)
+        if (std::string(*variable).rfind("POCL_DEVICES=", 0) != 0) environment.emplace_back(*variable);
+    environment.emplace_back("POCL_DEVICES=pthread pthread");
+    const CliRun listed = cli({"devices"}, &environment);
+    ASSERT_EQ(listed.exit_code, 0) << listed.err;
+    if (std::count(listed.out.begin(), listed.out.end(), '\n') < 2)
+        GTEST_SKIP() << "this PoCL does not make two devices: " << listed.out;
+
+    std::vector<std::string> inputs;
+    for (int i = 0; i < 6; ++i) inputs.push_back(write_depth("d" + std::to_string(i) + ".exr", 40 + 8 * i, 24, 4));
+    for (const char* command : {"filter", "sat"}) {
+        std::vector<std::string> arguments = {"--device", "all", command};
+        arguments.insert(arguments.end(), inputs.begin(), inputs.end());
+        arguments.insert(arguments.end(), {"-o", std::string("all_") + command, "--json", "-"});
+        if (std::string(command) == "filter") arguments.insert(arguments.end(), {"--format", "nlq32"});
+        else arguments.insert(arguments.end(), {"--max-kernel", "64"});
+        const CliRun run = cli(arguments, &environment);
+        ASSERT_EQ(run.exit_code, 0) << run.err;
+        const json summary = json::parse(run.out);
+        EXPECT_EQ(summary["devices"], 2) << run.out;
+        EXPECT_EQ(summary["written"], inputs.size()) << run.out;
+        // Each output equals the single-file run's on the default device, byte for byte.
+        for (const std::string& input : inputs) {
+            std::vector<std::string> single = {command, input, std::string("one_") + command + "_" + input};
+            if (std::string(command) == "filter") single.insert(single.end(), {"--format", "nlq32"});
+            else single.insert(single.end(), {"--max-kernel", "64"});
+            ASSERT_EQ(cli(single).exit_code, 0) << input;
+            EXPECT_EQ(bytes(std::string("all_") + command + "/" + input), bytes(std::string("one_") + command + "_" + input))
+                << command << " " << input;
+        }
+    }
 }
 
 TEST_F(BatchCli, ProgressShowsFilesOnATerminalOnly) {
