@@ -377,14 +377,14 @@ io::TranslucentDepth stack_array_layers(const std::vector<std::string>& paths, D
     std::vector<io::TranslucentDepth> maps;
     maps.reserve(paths.size());
     std::size_t most_translucent = 0;
+    // "256x256, 4 samples per texel"
+    const auto shape = [](const DepthImage& d) {
+        return std::to_string(d.width) + "x" + std::to_string(d.height) + ", " + std::to_string(d.samples) +
+               (d.samples == 1 ? " sample" : " samples") + " per texel";
+    };
     for (const std::string& path : paths) {
         maps.push_back(io::read_translucent_depth_exr(path, range));
         const DepthImage &first = maps.front().depth, &map = maps.back().depth;
-        // "256x256, 4 samples per texel"
-        const auto shape = [](const DepthImage& d) {
-            return std::to_string(d.width) + "x" + std::to_string(d.height) + ", " + std::to_string(d.samples) +
-                   (d.samples == 1 ? " sample" : " samples") + " per texel";
-        };
         if (map.width != first.width || map.height != first.height || map.samples != first.samples)
             throw input_error(path + ": " + shape(map) + ", but the array's layer 0 (" + paths.front() + ") is " +
                               shape(first) + ": every layer of a texture array has one size and sample count");
