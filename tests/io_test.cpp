@@ -7,6 +7,11 @@
 #include <msmcl/formats.hpp>
 
 #include <gtest/gtest.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <half.h>
 #include <png.h>
 
 #include <algorithm>
@@ -331,6 +336,56 @@ TEST_F(IoTest, DepthReadsHalfTiledAndOffsetDataWindows) {
     EXPECT_EQ(read.height, 36);
     EXPECT_EQ(read.at(5, 3, 0), tiled.channels[0].values[3 * 40 + 5]);
     EXPECT_EQ(read.at(39, 35, 1), tiled.channels[1].values[35 * 40 + 39]);
+}
+
+TEST_F(IoTest, DepthReadsEveryCompressionOfScanlineFiles) {
+    // Files written by OpenEXR itself: FLOAT samples in every compression (OpenEXRCore decodes
+    // those, blocks of 1 to 32 rows, a last block cut short), a HALF and a UINT channel that
+    // the depth reader skips, and a data window that does not start at (0, 0).
+    const int width = 45, height = 37, samples = 4;
+    std::vector<std::vector<float>> values(samples, std::vector<float>(width * height));
+    for (int s = 0; s < samples; ++s)
+        for (int t = 0; t < width * height; ++t) values[s][t] = static_cast<float>((t * 7919 + s * 104729) % 65536) / 65536.0f;
+    std::vector<half> other_half(width * height, half(0.25f));
+    std::vector<std::uint32_t> other_uint(width * height, 7u);
+    const Imath::Box2i window(Imath::V2i(-3, 5), Imath::V2i(-3 + width - 1, 5 + height - 1));
+    for (const Imf::Compression compression : {Imf::NO_COMPRESSION, Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
+                                               Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION, Imf::PXR24_COMPRESSION}) {
+        const std::string file = path("compression" + std::to_string(compression) + ".exr");
+        {
+            Imf::Header header(window, window, 1.0f, Imath::V2f(0, 0), 1.0f, Imf::INCREASING_Y, compression);
+            Imf::FrameBuffer frame;
+            const auto at = [&](auto* data) {
+                return reinterpret_cast<char*>(data) - (static_cast<std::ptrdiff_t>(window.min.y) * width + window.min.x) *
+                                                           static_cast<std::ptrdiff_t>(sizeof(*data));
+            };
+            for (int s = 0; s < samples; ++s) {
+                const std::string name = "sample" + std::to_string(s) + ".Z";
+                header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+                frame.insert(name, Imf::Slice(Imf::FLOAT, at(values[s].data()), sizeof(float), sizeof(float) * width));
+            }
+            header.channels().insert("A", Imf::Channel(Imf::HALF));
+            frame.insert("A", Imf::Slice(Imf::HALF, at(other_half.data()), sizeof(half), sizeof(half) * width));
+            header.channels().insert("id", Imf::Channel(Imf::UINT));
+            frame.insert("id", Imf::Slice(Imf::UINT, at(other_uint.data()), 4, 4 * width));
+            Imf::OutputFile output(file.c_str(), header);
+            output.setFrameBuffer(frame);
+            output.writePixels(height);
+        }
+        const DepthImage read = msmcl::io::read_depth_exr(file, DepthRange::zero_one);
+        ASSERT_EQ(read.width, width);
+        ASSERT_EQ(read.height, height);
+        ASSERT_EQ(read.samples, samples);
+        // PXR24 keeps 24 of a float's 32 bits; the others give the values back exactly.
+        for (int s = 0; s < samples; ++s)
+            for (int t = 0; t < width * height; t += 1) {
+                const float expected = values[s][t];
+                if (compression == Imf::PXR24_COMPRESSION)
+                    ASSERT_NEAR(read.at(t % width, t / width, s), expected, 1.0f / 32768.0f) << file << " texel " << t;
+                else
+                    ASSERT_EQ(read.at(t % width, t / width, s), expected) << file << " texel " << t << " sample " << s;
+            }
+    }
 }
 
 TEST_F(IoTest, DepthReaderNamesTheFileAndTheProblem) {
