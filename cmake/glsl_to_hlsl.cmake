@@ -24,7 +24,11 @@ endmacro()
 
 # texelFetch(t, ivec2(x, y), 0) -> t.Load(int3(x, y, 0))
 string(REGEX REPLACE "texelFetch\\(([A-Za-z_0-9]+), ivec2\\(([^()]*)\\), 0\\)" "\\1.Load(int3(\\2, 0))" body "${body}")
+# texelFetch(t, ivec3(x, y, layer), 0) -> t.Load(int4(x, y, layer, 0)) (texture arrays)
+string(REGEX REPLACE "texelFetch\\(([A-Za-z_0-9]+), ivec3\\(([^()]*)\\), 0\\)" "\\1.Load(int4(\\2, 0))" body "${body}")
 replace_token(MSM_GLSL MSM_HLSL)
+replace_token(usampler2DArray "Texture2DArray<uint4>")
+replace_token(sampler2DArray "Texture2DArray<float4>")
 replace_token(usampler2D "Texture2D<uint4>")
 replace_token(sampler2D "Texture2D<float4>")
 replace_token(uvec4 uint4)
@@ -39,7 +43,8 @@ set(header "// msmcl shader functions (HLSL, Shader Model 5+): GENERATED from sh
 //   cmake -DINPUT=shaders/msm.glsl -DOUTPUT=shaders/msm.hlsl -P cmake/glsl_to_hlsl.cmake
 // Same functions, names and operations as the GLSL file (see its header for the texture
 // formats, how to sample them and the accuracy notes); textures are Texture2D<float4> /
-// Texture2D<uint4> read with Load, so every sampler state works.
+// Texture2D<uint4> (Texture2DArray for the _array lookups) read with Load, so every sampler
+// state works.
 ")
 file(WRITE ${OUTPUT}.tmp "${header}${body}")
 file(RENAME ${OUTPUT}.tmp ${OUTPUT})

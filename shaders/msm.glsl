@@ -16,6 +16,8 @@
 //   SAT         RGBA32_UINT        wrapping prefix sums: texelFetch only, never filtered
 //   6 moments   two RGB10_A2 UNORM odd powers, even powers: bilinear filtering allowed
 //   blue noise  RG8UI, 64 x 4096   msmcl::blue_noise_textures() for the dithered lookup
+// Texture arrays (cascades): msm_lookup_<format>_array(map, layer, ...) shade a layer of a
+// sampler2DArray / usampler2DArray exactly as the 2D lookups shade a 2D map.
 // Depths: zf = msm_internal_depth(fragment depth as rendered, 1 for [0,1]) - depth bias.
 // Shadow intensity: 0 lit, 1 shadowed.
 //
@@ -395,17 +397,39 @@ ivec2 msm_lookup_texel(float u, float v, vec2 noise, int lookup, int width, int 
     return ivec2(msm_texel_index(u, width), msm_texel_index(v, height));
 }
 
+// The bilinear lookup's four texels shaded and blended (c00 at (x0, y0), c10 at (x1, y0),
+// c01 at (x0, y1), c11 at (x1, y1)): shared by the lookups on 2D textures and on layers of
+// texture arrays, which differ only in how they fetch.
+float msm_bilinear_moments128(vec4 c00, vec4 c10, vec4 c01, vec4 c11, msm_bilinear_taps k, float zf) {
+    msm_moments m = msm_moments_bilinear(msm_decode_moments128(c00), msm_decode_moments128(c10),
+                                         msm_decode_moments128(c01), msm_decode_moments128(c11), k.tx, k.ty);
+    return msm_shadow_moments128_fast(m, zf);
+}
+
+float msm_bilinear_msm64(vec4 c00, vec4 c10, vec4 c01, vec4 c11, msm_bilinear_taps k, float zf) {
+    msm_moments m = msm_moments_bilinear(msm_decode_msm64(c00), msm_decode_msm64(c10), msm_decode_msm64(c01),
+                                         msm_decode_msm64(c11), k.tx, k.ty);
+    return msm_shadow_msm64_decoded_fast(m, zf);
+}
+
+float msm_bilinear_nlq64(vec4 c00, vec4 c10, vec4 c01, vec4 c11, msm_bilinear_taps k, float zf) {
+    return msm_bilinear(msm_shadow_nlq64(c00, zf), msm_shadow_nlq64(c10, zf), msm_shadow_nlq64(c01, zf),
+                        msm_shadow_nlq64(c11, zf), k.tx, k.ty);
+}
+
+float msm_bilinear_nlq32(uint w00, uint w10, uint w01, uint w11, msm_bilinear_taps k, float zf) {
+    return msm_bilinear(msm_shadow_nlq32(w00, zf), msm_shadow_nlq32(w10, zf), msm_shadow_nlq32(w01, zf),
+                        msm_shadow_nlq32(w11, zf), k.tx, k.ty);
+}
+
 float msm_lookup_moments128(sampler2D map, int width, int height, float u, float v, float zf, int lookup, vec2 noise) {
     if (lookup != 1) {
         ivec2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
         return msm_shadow_moments128_fast(msm_decode_moments128(texelFetch(map, ivec2(t.x, t.y), 0)), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    msm_moments m = msm_moments_bilinear(msm_decode_moments128(texelFetch(map, ivec2(k.x0, k.y0), 0)),
-                                         msm_decode_moments128(texelFetch(map, ivec2(k.x1, k.y0), 0)),
-                                         msm_decode_moments128(texelFetch(map, ivec2(k.x0, k.y1), 0)),
-                                         msm_decode_moments128(texelFetch(map, ivec2(k.x1, k.y1), 0)), k.tx, k.ty);
-    return msm_shadow_moments128_fast(m, zf);
+    return msm_bilinear_moments128(texelFetch(map, ivec2(k.x0, k.y0), 0), texelFetch(map, ivec2(k.x1, k.y0), 0),
+                                   texelFetch(map, ivec2(k.x0, k.y1), 0), texelFetch(map, ivec2(k.x1, k.y1), 0), k, zf);
 }
 
 float msm_lookup_msm64(sampler2D map, int width, int height, float u, float v, float zf, int lookup, vec2 noise) {
@@ -414,11 +438,8 @@ float msm_lookup_msm64(sampler2D map, int width, int height, float u, float v, f
         return msm_shadow_msm64_decoded_fast(msm_decode_msm64(texelFetch(map, ivec2(t.x, t.y), 0)), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    msm_moments m = msm_moments_bilinear(msm_decode_msm64(texelFetch(map, ivec2(k.x0, k.y0), 0)),
-                                         msm_decode_msm64(texelFetch(map, ivec2(k.x1, k.y0), 0)),
-                                         msm_decode_msm64(texelFetch(map, ivec2(k.x0, k.y1), 0)),
-                                         msm_decode_msm64(texelFetch(map, ivec2(k.x1, k.y1), 0)), k.tx, k.ty);
-    return msm_shadow_msm64_decoded_fast(m, zf);
+    return msm_bilinear_msm64(texelFetch(map, ivec2(k.x0, k.y0), 0), texelFetch(map, ivec2(k.x1, k.y0), 0),
+                              texelFetch(map, ivec2(k.x0, k.y1), 0), texelFetch(map, ivec2(k.x1, k.y1), 0), k, zf);
 }
 
 float msm_lookup_nlq64(sampler2D map, int width, int height, float u, float v, float zf, int lookup, vec2 noise) {
@@ -427,10 +448,8 @@ float msm_lookup_nlq64(sampler2D map, int width, int height, float u, float v, f
         return msm_shadow_nlq64(texelFetch(map, ivec2(t.x, t.y), 0), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    return msm_bilinear(msm_shadow_nlq64(texelFetch(map, ivec2(k.x0, k.y0), 0), zf),
-                        msm_shadow_nlq64(texelFetch(map, ivec2(k.x1, k.y0), 0), zf),
-                        msm_shadow_nlq64(texelFetch(map, ivec2(k.x0, k.y1), 0), zf),
-                        msm_shadow_nlq64(texelFetch(map, ivec2(k.x1, k.y1), 0), zf), k.tx, k.ty);
+    return msm_bilinear_nlq64(texelFetch(map, ivec2(k.x0, k.y0), 0), texelFetch(map, ivec2(k.x1, k.y0), 0),
+                              texelFetch(map, ivec2(k.x0, k.y1), 0), texelFetch(map, ivec2(k.x1, k.y1), 0), k, zf);
 }
 
 float msm_lookup_nlq32(usampler2D map, int width, int height, float u, float v, float zf, int lookup, vec2 noise) {
@@ -439,10 +458,59 @@ float msm_lookup_nlq32(usampler2D map, int width, int height, float u, float v, 
         return msm_shadow_nlq32(texelFetch(map, ivec2(t.x, t.y), 0).x, zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    return msm_bilinear(msm_shadow_nlq32(texelFetch(map, ivec2(k.x0, k.y0), 0).x, zf),
-                        msm_shadow_nlq32(texelFetch(map, ivec2(k.x1, k.y0), 0).x, zf),
-                        msm_shadow_nlq32(texelFetch(map, ivec2(k.x0, k.y1), 0).x, zf),
-                        msm_shadow_nlq32(texelFetch(map, ivec2(k.x1, k.y1), 0).x, zf), k.tx, k.ty);
+    return msm_bilinear_nlq32(texelFetch(map, ivec2(k.x0, k.y0), 0).x, texelFetch(map, ivec2(k.x1, k.y0), 0).x,
+                              texelFetch(map, ivec2(k.x0, k.y1), 0).x, texelFetch(map, ivec2(k.x1, k.y1), 0).x, k, zf);
+}
+
+// ---- Texture arrays (a cascaded shadow map's cascades; KTX2 layerCount N bound as a
+// VK_IMAGE_VIEW_TYPE_2D_ARRAY view): the lookups above on array layer `layer` of a
+// sampler2DArray (usampler2DArray for nlq32), the same texels, decoding and shading.
+float msm_lookup_moments128_array(sampler2DArray map, int layer, int width, int height, float u, float v, float zf,
+                                  int lookup, vec2 noise) {
+    if (lookup != 1) {
+        ivec2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_moments128_fast(msm_decode_moments128(texelFetch(map, ivec3(t.x, t.y, layer), 0)), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_moments128(texelFetch(map, ivec3(k.x0, k.y0, layer), 0), texelFetch(map, ivec3(k.x1, k.y0, layer), 0),
+                                   texelFetch(map, ivec3(k.x0, k.y1, layer), 0), texelFetch(map, ivec3(k.x1, k.y1, layer), 0),
+                                   k, zf);
+}
+
+float msm_lookup_msm64_array(sampler2DArray map, int layer, int width, int height, float u, float v, float zf,
+                             int lookup, vec2 noise) {
+    if (lookup != 1) {
+        ivec2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_msm64_decoded_fast(msm_decode_msm64(texelFetch(map, ivec3(t.x, t.y, layer), 0)), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_msm64(texelFetch(map, ivec3(k.x0, k.y0, layer), 0), texelFetch(map, ivec3(k.x1, k.y0, layer), 0),
+                              texelFetch(map, ivec3(k.x0, k.y1, layer), 0), texelFetch(map, ivec3(k.x1, k.y1, layer), 0),
+                              k, zf);
+}
+
+float msm_lookup_nlq64_array(sampler2DArray map, int layer, int width, int height, float u, float v, float zf,
+                             int lookup, vec2 noise) {
+    if (lookup != 1) {
+        ivec2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_nlq64(texelFetch(map, ivec3(t.x, t.y, layer), 0), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_nlq64(texelFetch(map, ivec3(k.x0, k.y0, layer), 0), texelFetch(map, ivec3(k.x1, k.y0, layer), 0),
+                              texelFetch(map, ivec3(k.x0, k.y1, layer), 0), texelFetch(map, ivec3(k.x1, k.y1, layer), 0),
+                              k, zf);
+}
+
+float msm_lookup_nlq32_array(usampler2DArray map, int layer, int width, int height, float u, float v, float zf,
+                             int lookup, vec2 noise) {
+    if (lookup != 1) {
+        ivec2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_nlq32(texelFetch(map, ivec3(t.x, t.y, layer), 0).x, zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_nlq32(texelFetch(map, ivec3(k.x0, k.y0, layer), 0).x, texelFetch(map, ivec3(k.x1, k.y0, layer), 0).x,
+                              texelFetch(map, ivec3(k.x0, k.y1, layer), 0).x, texelFetch(map, ivec3(k.x1, k.y1, layer), 0).x,
+                              k, zf);
 }
 
 // ---- Accurate moments128 (msm_shadow_moments128 of msm_shading.clh): the fast path above
@@ -629,6 +697,14 @@ float msm_shadow_moments128_df(msm_moments_df raw, float zf) {
     return msm_shadow_linear_df(raw, MSM_ALPHA_FLOAT, MSM_BSTAR_FLOAT, zf);
 }
 
+// The bilinear taps of the accurate path (as msm_bilinear_moments128).
+float msm_bilinear_moments128_accurate(vec4 c00, vec4 c10, vec4 c01, vec4 c11, msm_bilinear_taps k, float zf) {
+    return msm_shadow_moments128_df(msm_moments_df_bilinear_f(msm_decode_moments128(c00), msm_decode_moments128(c10),
+                                                              msm_decode_moments128(c01), msm_decode_moments128(c11),
+                                                              k.tx, k.ty),
+                                    zf);
+}
+
 // msm_lookup_moments128 with the accurate path: what msmcl's shade kernel computes.
 float msm_lookup_moments128_accurate(sampler2D map, int width, int height, float u, float v, float zf, int lookup,
                                      vec2 noise) {
@@ -637,12 +713,23 @@ float msm_lookup_moments128_accurate(sampler2D map, int width, int height, float
         return msm_shadow_moments128(msm_decode_moments128(texelFetch(map, ivec2(t.x, t.y), 0)), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    return msm_shadow_moments128_df(msm_moments_df_bilinear_f(msm_decode_moments128(texelFetch(map, ivec2(k.x0, k.y0), 0)),
-                                                              msm_decode_moments128(texelFetch(map, ivec2(k.x1, k.y0), 0)),
-                                                              msm_decode_moments128(texelFetch(map, ivec2(k.x0, k.y1), 0)),
-                                                              msm_decode_moments128(texelFetch(map, ivec2(k.x1, k.y1), 0)),
-                                                              k.tx, k.ty),
-                                    zf);
+    return msm_bilinear_moments128_accurate(texelFetch(map, ivec2(k.x0, k.y0), 0), texelFetch(map, ivec2(k.x1, k.y0), 0),
+                                            texelFetch(map, ivec2(k.x0, k.y1), 0), texelFetch(map, ivec2(k.x1, k.y1), 0),
+                                            k, zf);
+}
+
+// The accurate path on array layer `layer` (texture arrays, as msm_lookup_moments128_array).
+float msm_lookup_moments128_accurate_array(sampler2DArray map, int layer, int width, int height, float u, float v,
+                                           float zf, int lookup, vec2 noise) {
+    if (lookup != 1) {
+        ivec2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_moments128(msm_decode_moments128(texelFetch(map, ivec3(t.x, t.y, layer), 0)), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_moments128_accurate(texelFetch(map, ivec3(k.x0, k.y0, layer), 0),
+                                            texelFetch(map, ivec3(k.x1, k.y0, layer), 0),
+                                            texelFetch(map, ivec3(k.x0, k.y1, layer), 0),
+                                            texelFetch(map, ivec3(k.x1, k.y1, layer), 0), k, zf);
 }
 
 // ---- Summed-area tables and moment soft shadows (msm_sat.clh; docs/math.md).

@@ -3,7 +3,8 @@
 //   cmake -DINPUT=shaders/msm.glsl -DOUTPUT=shaders/msm.hlsl -P cmake/glsl_to_hlsl.cmake
 // Same functions, names and operations as the GLSL file (see its header for the texture
 // formats, how to sample them and the accuracy notes); textures are Texture2D<float4> /
-// Texture2D<uint4> read with Load, so every sampler state works.
+// Texture2D<uint4> (Texture2DArray for the _array lookups) read with Load, so every sampler
+// state works.
 #ifndef MSM_HLSL
 #define MSM_HLSL
 
@@ -371,17 +372,39 @@ int2 msm_lookup_texel(float u, float v, float2 noise, int lookup, int width, int
     return int2(msm_texel_index(u, width), msm_texel_index(v, height));
 }
 
+// The bilinear lookup's four texels shaded and blended (c00 at (x0, y0), c10 at (x1, y0),
+// c01 at (x0, y1), c11 at (x1, y1)): shared by the lookups on 2D textures and on layers of
+// texture arrays, which differ only in how they fetch.
+float msm_bilinear_moments128(float4 c00, float4 c10, float4 c01, float4 c11, msm_bilinear_taps k, float zf) {
+    msm_moments m = msm_moments_bilinear(msm_decode_moments128(c00), msm_decode_moments128(c10),
+                                         msm_decode_moments128(c01), msm_decode_moments128(c11), k.tx, k.ty);
+    return msm_shadow_moments128_fast(m, zf);
+}
+
+float msm_bilinear_msm64(float4 c00, float4 c10, float4 c01, float4 c11, msm_bilinear_taps k, float zf) {
+    msm_moments m = msm_moments_bilinear(msm_decode_msm64(c00), msm_decode_msm64(c10), msm_decode_msm64(c01),
+                                         msm_decode_msm64(c11), k.tx, k.ty);
+    return msm_shadow_msm64_decoded_fast(m, zf);
+}
+
+float msm_bilinear_nlq64(float4 c00, float4 c10, float4 c01, float4 c11, msm_bilinear_taps k, float zf) {
+    return msm_bilinear(msm_shadow_nlq64(c00, zf), msm_shadow_nlq64(c10, zf), msm_shadow_nlq64(c01, zf),
+                        msm_shadow_nlq64(c11, zf), k.tx, k.ty);
+}
+
+float msm_bilinear_nlq32(uint w00, uint w10, uint w01, uint w11, msm_bilinear_taps k, float zf) {
+    return msm_bilinear(msm_shadow_nlq32(w00, zf), msm_shadow_nlq32(w10, zf), msm_shadow_nlq32(w01, zf),
+                        msm_shadow_nlq32(w11, zf), k.tx, k.ty);
+}
+
 float msm_lookup_moments128(Texture2D<float4> map, int width, int height, float u, float v, float zf, int lookup, float2 noise) {
     if (lookup != 1) {
         int2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
         return msm_shadow_moments128_fast(msm_decode_moments128(map.Load(int3(t.x, t.y, 0))), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    msm_moments m = msm_moments_bilinear(msm_decode_moments128(map.Load(int3(k.x0, k.y0, 0))),
-                                         msm_decode_moments128(map.Load(int3(k.x1, k.y0, 0))),
-                                         msm_decode_moments128(map.Load(int3(k.x0, k.y1, 0))),
-                                         msm_decode_moments128(map.Load(int3(k.x1, k.y1, 0))), k.tx, k.ty);
-    return msm_shadow_moments128_fast(m, zf);
+    return msm_bilinear_moments128(map.Load(int3(k.x0, k.y0, 0)), map.Load(int3(k.x1, k.y0, 0)),
+                                   map.Load(int3(k.x0, k.y1, 0)), map.Load(int3(k.x1, k.y1, 0)), k, zf);
 }
 
 float msm_lookup_msm64(Texture2D<float4> map, int width, int height, float u, float v, float zf, int lookup, float2 noise) {
@@ -390,11 +413,8 @@ float msm_lookup_msm64(Texture2D<float4> map, int width, int height, float u, fl
         return msm_shadow_msm64_decoded_fast(msm_decode_msm64(map.Load(int3(t.x, t.y, 0))), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    msm_moments m = msm_moments_bilinear(msm_decode_msm64(map.Load(int3(k.x0, k.y0, 0))),
-                                         msm_decode_msm64(map.Load(int3(k.x1, k.y0, 0))),
-                                         msm_decode_msm64(map.Load(int3(k.x0, k.y1, 0))),
-                                         msm_decode_msm64(map.Load(int3(k.x1, k.y1, 0))), k.tx, k.ty);
-    return msm_shadow_msm64_decoded_fast(m, zf);
+    return msm_bilinear_msm64(map.Load(int3(k.x0, k.y0, 0)), map.Load(int3(k.x1, k.y0, 0)),
+                              map.Load(int3(k.x0, k.y1, 0)), map.Load(int3(k.x1, k.y1, 0)), k, zf);
 }
 
 float msm_lookup_nlq64(Texture2D<float4> map, int width, int height, float u, float v, float zf, int lookup, float2 noise) {
@@ -403,10 +423,8 @@ float msm_lookup_nlq64(Texture2D<float4> map, int width, int height, float u, fl
         return msm_shadow_nlq64(map.Load(int3(t.x, t.y, 0)), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    return msm_bilinear(msm_shadow_nlq64(map.Load(int3(k.x0, k.y0, 0)), zf),
-                        msm_shadow_nlq64(map.Load(int3(k.x1, k.y0, 0)), zf),
-                        msm_shadow_nlq64(map.Load(int3(k.x0, k.y1, 0)), zf),
-                        msm_shadow_nlq64(map.Load(int3(k.x1, k.y1, 0)), zf), k.tx, k.ty);
+    return msm_bilinear_nlq64(map.Load(int3(k.x0, k.y0, 0)), map.Load(int3(k.x1, k.y0, 0)),
+                              map.Load(int3(k.x0, k.y1, 0)), map.Load(int3(k.x1, k.y1, 0)), k, zf);
 }
 
 float msm_lookup_nlq32(Texture2D<uint4> map, int width, int height, float u, float v, float zf, int lookup, float2 noise) {
@@ -415,10 +433,59 @@ float msm_lookup_nlq32(Texture2D<uint4> map, int width, int height, float u, flo
         return msm_shadow_nlq32(map.Load(int3(t.x, t.y, 0)).x, zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    return msm_bilinear(msm_shadow_nlq32(map.Load(int3(k.x0, k.y0, 0)).x, zf),
-                        msm_shadow_nlq32(map.Load(int3(k.x1, k.y0, 0)).x, zf),
-                        msm_shadow_nlq32(map.Load(int3(k.x0, k.y1, 0)).x, zf),
-                        msm_shadow_nlq32(map.Load(int3(k.x1, k.y1, 0)).x, zf), k.tx, k.ty);
+    return msm_bilinear_nlq32(map.Load(int3(k.x0, k.y0, 0)).x, map.Load(int3(k.x1, k.y0, 0)).x,
+                              map.Load(int3(k.x0, k.y1, 0)).x, map.Load(int3(k.x1, k.y1, 0)).x, k, zf);
+}
+
+// ---- Texture arrays (a cascaded shadow map's cascades; KTX2 layerCount N bound as a
+// VK_IMAGE_VIEW_TYPE_2D_ARRAY view): the lookups above on array layer `layer` of a
+// Texture2DArray<float4> (Texture2DArray<uint4> for nlq32), the same texels, decoding and shading.
+float msm_lookup_moments128_array(Texture2DArray<float4> map, int layer, int width, int height, float u, float v, float zf,
+                                  int lookup, float2 noise) {
+    if (lookup != 1) {
+        int2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_moments128_fast(msm_decode_moments128(map.Load(int4(t.x, t.y, layer, 0))), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_moments128(map.Load(int4(k.x0, k.y0, layer, 0)), map.Load(int4(k.x1, k.y0, layer, 0)),
+                                   map.Load(int4(k.x0, k.y1, layer, 0)), map.Load(int4(k.x1, k.y1, layer, 0)),
+                                   k, zf);
+}
+
+float msm_lookup_msm64_array(Texture2DArray<float4> map, int layer, int width, int height, float u, float v, float zf,
+                             int lookup, float2 noise) {
+    if (lookup != 1) {
+        int2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_msm64_decoded_fast(msm_decode_msm64(map.Load(int4(t.x, t.y, layer, 0))), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_msm64(map.Load(int4(k.x0, k.y0, layer, 0)), map.Load(int4(k.x1, k.y0, layer, 0)),
+                              map.Load(int4(k.x0, k.y1, layer, 0)), map.Load(int4(k.x1, k.y1, layer, 0)),
+                              k, zf);
+}
+
+float msm_lookup_nlq64_array(Texture2DArray<float4> map, int layer, int width, int height, float u, float v, float zf,
+                             int lookup, float2 noise) {
+    if (lookup != 1) {
+        int2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_nlq64(map.Load(int4(t.x, t.y, layer, 0)), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_nlq64(map.Load(int4(k.x0, k.y0, layer, 0)), map.Load(int4(k.x1, k.y0, layer, 0)),
+                              map.Load(int4(k.x0, k.y1, layer, 0)), map.Load(int4(k.x1, k.y1, layer, 0)),
+                              k, zf);
+}
+
+float msm_lookup_nlq32_array(Texture2DArray<uint4> map, int layer, int width, int height, float u, float v, float zf,
+                             int lookup, float2 noise) {
+    if (lookup != 1) {
+        int2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_nlq32(map.Load(int4(t.x, t.y, layer, 0)).x, zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_nlq32(map.Load(int4(k.x0, k.y0, layer, 0)).x, map.Load(int4(k.x1, k.y0, layer, 0)).x,
+                              map.Load(int4(k.x0, k.y1, layer, 0)).x, map.Load(int4(k.x1, k.y1, layer, 0)).x,
+                              k, zf);
 }
 
 // ---- Accurate moments128 (msm_shadow_moments128 of msm_shading.clh): the fast path above
@@ -605,6 +672,14 @@ float msm_shadow_moments128_df(msm_moments_df raw, float zf) {
     return msm_shadow_linear_df(raw, MSM_ALPHA_FLOAT, MSM_BSTAR_FLOAT, zf);
 }
 
+// The bilinear taps of the accurate path (as msm_bilinear_moments128).
+float msm_bilinear_moments128_accurate(float4 c00, float4 c10, float4 c01, float4 c11, msm_bilinear_taps k, float zf) {
+    return msm_shadow_moments128_df(msm_moments_df_bilinear_f(msm_decode_moments128(c00), msm_decode_moments128(c10),
+                                                              msm_decode_moments128(c01), msm_decode_moments128(c11),
+                                                              k.tx, k.ty),
+                                    zf);
+}
+
 // msm_lookup_moments128 with the accurate path: what msmcl's shade kernel computes.
 float msm_lookup_moments128_accurate(Texture2D<float4> map, int width, int height, float u, float v, float zf, int lookup,
                                      float2 noise) {
@@ -613,12 +688,23 @@ float msm_lookup_moments128_accurate(Texture2D<float4> map, int width, int heigh
         return msm_shadow_moments128(msm_decode_moments128(map.Load(int3(t.x, t.y, 0))), zf);
     }
     msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
-    return msm_shadow_moments128_df(msm_moments_df_bilinear_f(msm_decode_moments128(map.Load(int3(k.x0, k.y0, 0))),
-                                                              msm_decode_moments128(map.Load(int3(k.x1, k.y0, 0))),
-                                                              msm_decode_moments128(map.Load(int3(k.x0, k.y1, 0))),
-                                                              msm_decode_moments128(map.Load(int3(k.x1, k.y1, 0))),
-                                                              k.tx, k.ty),
-                                    zf);
+    return msm_bilinear_moments128_accurate(map.Load(int3(k.x0, k.y0, 0)), map.Load(int3(k.x1, k.y0, 0)),
+                                            map.Load(int3(k.x0, k.y1, 0)), map.Load(int3(k.x1, k.y1, 0)),
+                                            k, zf);
+}
+
+// The accurate path on array layer `layer` (texture arrays, as msm_lookup_moments128_array).
+float msm_lookup_moments128_accurate_array(Texture2DArray<float4> map, int layer, int width, int height, float u, float v,
+                                           float zf, int lookup, float2 noise) {
+    if (lookup != 1) {
+        int2 t = msm_lookup_texel(u, v, noise, lookup, width, height);
+        return msm_shadow_moments128(msm_decode_moments128(map.Load(int4(t.x, t.y, layer, 0))), zf);
+    }
+    msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+    return msm_bilinear_moments128_accurate(map.Load(int4(k.x0, k.y0, layer, 0)),
+                                            map.Load(int4(k.x1, k.y0, layer, 0)),
+                                            map.Load(int4(k.x0, k.y1, layer, 0)),
+                                            map.Load(int4(k.x1, k.y1, layer, 0)), k, zf);
 }
 
 // ---- Summed-area tables and moment soft shadows (msm_sat.clh; docs/math.md).

@@ -111,6 +111,9 @@ static void run(msmcl_context* context) {
     EXPECT_OK(msmcl_build_sat_device(context, &device_depth, sat_table, &sat_options, &blocking));
     EXPECT_OK(msmcl_build_sat_layered_device(context, &device_depth, &device_layers, sat_table, &sat_options,
                                              &blocking));
+    EXPECT_OK(msmcl_build_sat_device(context, &device_depth, sat_table, &sat_options, &blocking));
+    EXPECT_OK(msmcl_soft_shade_device(context, sat_table, WIDTH, HEIGHT, sat_options.max_kernel_texels, receivers,
+                                      RECEIVERS, out, &soft_options, &blocking));
     clReleaseMemObject(sat_table);
     clReleaseMemObject(out);
     clReleaseMemObject(receiver_pixels);
@@ -118,6 +121,124 @@ static void run(msmcl_context* context) {
     clReleaseMemObject(texture);
     clReleaseMemObject(layer_opacity_buffer);
     clReleaseMemObject(layer_depth_buffer);
+    clReleaseMemObject(depth_buffer);
+}
+
+/* Texture arrays of two layers, plain and under one translucent layer, host and device. */
+static void run_arrays(msmcl_context* context) {
+    enum { LAYERS = 2 };
+    float depth[LAYERS * VALUES], layer_depth[LAYERS * VALUES], layer_opacity[LAYERS * VALUES];
+    uint16_t texture[LAYERS * 4 * TEXELS];
+    uint32_t table[LAYERS * 4 * TEXELS];
+    msmcl_translucent_layer layer;
+    msmcl_filter_options filter_options;
+    msmcl_enqueue blocking;
+    msmcl_device_depth device_depth;
+    msmcl_device_layers device_layers;
+    cl_mem depth_buffer, layer_depth_buffer, layer_opacity_buffer, texture_buffer, table_buffer;
+    for (int i = 0; i < LAYERS * VALUES; ++i) {
+        depth[i] = (float)((i * 41) % 103) / 102.0f;
+        layer_depth[i] = (float)((i * 29) % 89) / 88.0f;
+        layer_opacity[i] = (float)(i % 3) / 2.0f;
+    }
+    layer.depth = layer_depth;
+    layer.opacity = layer_opacity;
+    msmcl_filter_options_init(&filter_options);
+    EXPECT_OK(msmcl_filter_array(context, depth, WIDTH, HEIGHT, SAMPLES, LAYERS, &filter_options, texture,
+                                 sizeof texture));
+    EXPECT_OK(msmcl_build_sat_array(context, depth, WIDTH, HEIGHT, SAMPLES, LAYERS, NULL, table, LAYERS * 4 * TEXELS));
+    EXPECT_OK(msmcl_filter_array_layered(context, depth, WIDTH, HEIGHT, SAMPLES, LAYERS, &layer, 1, &filter_options,
+                                         texture, sizeof texture));
+    EXPECT_OK(msmcl_build_sat_array_layered(context, depth, WIDTH, HEIGHT, SAMPLES, LAYERS, &layer, 1, NULL, table,
+                                            LAYERS * 4 * TEXELS));
+    /* One translucent layer per array layer: the host arrays are already the device layout. */
+    depth_buffer = buffer_of(context, sizeof depth, depth);
+    layer_depth_buffer = buffer_of(context, sizeof layer_depth, layer_depth);
+    layer_opacity_buffer = buffer_of(context, sizeof layer_opacity, layer_opacity);
+    texture_buffer = buffer_of(context, sizeof texture, NULL);
+    table_buffer = buffer_of(context, sizeof table, NULL);
+    device_depth.memory = depth_buffer;
+    device_depth.width = WIDTH;
+    device_depth.height = HEIGHT;
+    device_depth.samples = SAMPLES;
+    device_depth.layout = MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE;
+    device_layers.depth = layer_depth_buffer;
+    device_layers.opacity = layer_opacity_buffer;
+    device_layers.count = 1;
+    memset(&blocking, 0, sizeof blocking);
+    blocking.blocking = 1;
+    EXPECT_OK(msmcl_filter_array_device(context, &device_depth, LAYERS, texture_buffer, &filter_options, &blocking));
+    EXPECT_OK(msmcl_build_sat_array_device(context, &device_depth, LAYERS, table_buffer, NULL, &blocking));
+    EXPECT_OK(msmcl_filter_array_layered_device(context, &device_depth, LAYERS, &device_layers, texture_buffer,
+                                                &filter_options, &blocking));
+    EXPECT_OK(msmcl_build_sat_array_layered_device(context, &device_depth, LAYERS, &device_layers, table_buffer, NULL,
+                                                   &blocking));
+    clReleaseMemObject(table_buffer);
+    clReleaseMemObject(texture_buffer);
+    clReleaseMemObject(layer_opacity_buffer);
+    clReleaseMemObject(layer_depth_buffer);
+    clReleaseMemObject(depth_buffer);
+}
+
+/* Single scattering of a small scene, host and device. */
+static void run_scatter(msmcl_context* context) {
+    enum { CAMERA_WIDTH = 16, CAMERA_HEIGHT = 12, PIXELS = CAMERA_WIDTH * CAMERA_HEIGHT };
+    float depth[VALUES], camera_depth[PIXELS], radiance[PIXELS], moments[4 * TEXELS];
+    uint32_t map[2 * 32 * 16];
+    msmcl_scatter_scene scene;
+    msmcl_scatter_options options;
+    msmcl_filter_options filter_options;
+    msmcl_enqueue blocking;
+    msmcl_device_depth device_depth;
+    cl_mem depth_buffer, moment_buffer, map_buffer, camera_buffer, radiance_buffer;
+    for (int i = 0; i < VALUES; ++i) depth[i] = (float)((i * 37) % 101) / 100.0f;
+    for (int i = 0; i < PIXELS; ++i) camera_depth[i] = 0.5f + (float)(i % 7) / 14.0f;
+    msmcl_scatter_scene_init(&scene);
+    scene.light.width = scene.light.height = 10.0;
+    scene.light.near_plane = -5.0;
+    scene.light.far_plane = 5.0;
+    scene.camera.position[1] = 1.0;
+    scene.camera.far_plane = 20.0;
+    scene.camera.width = CAMERA_WIDTH;
+    scene.camera.height = CAMERA_HEIGHT;
+    scene.rectified_width = 32;
+    scene.rectified_height = 16;
+    msmcl_scatter_options_init(&options);
+    if (msmcl_scatter_map_bytes(&scene) != sizeof map) {
+        ++failures;
+        fprintf(stderr, "capi_c_test: msmcl_scatter_map_bytes is %u, expected %u\n",
+                (unsigned)msmcl_scatter_map_bytes(&scene), (unsigned)sizeof map);
+    }
+    EXPECT_OK(msmcl_scatter(context, &scene, depth, WIDTH, HEIGHT, SAMPLES, camera_depth, &options, radiance));
+    EXPECT_OK(msmcl_scatter_prefilter(context, &scene, depth, WIDTH, HEIGHT, SAMPLES, &options, map, sizeof map));
+    EXPECT_OK(msmcl_scatter_evaluate(context, &scene, map, sizeof map, camera_depth, &options, radiance));
+
+    /* The device path: moments128 map, prefilter, evaluate; and the unfiltered prefilter. */
+    depth_buffer = buffer_of(context, sizeof depth, depth);
+    moment_buffer = buffer_of(context, sizeof moments, NULL);
+    map_buffer = buffer_of(context, sizeof map, NULL);
+    camera_buffer = buffer_of(context, sizeof camera_depth, camera_depth);
+    radiance_buffer = buffer_of(context, sizeof radiance, NULL);
+    device_depth.memory = depth_buffer;
+    device_depth.width = WIDTH;
+    device_depth.height = HEIGHT;
+    device_depth.samples = SAMPLES;
+    device_depth.layout = MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE;
+    msmcl_filter_options_init(&filter_options);
+    filter_options.format = MSMCL_FORMAT_MOMENTS128;
+    filter_options.sigma = options.filter_sigma;
+    memset(&blocking, 0, sizeof blocking);
+    blocking.blocking = 1;
+    EXPECT_OK(msmcl_filter_device(context, &device_depth, moment_buffer, &filter_options, NULL));
+    EXPECT_OK(msmcl_scatter_prefilter_device(context, &scene, moment_buffer, WIDTH, HEIGHT, options.moments,
+                                             map_buffer, NULL));
+    EXPECT_OK(msmcl_scatter_evaluate_device(context, &scene, map_buffer, options.moments, camera_buffer,
+                                            radiance_buffer, options.beta, &blocking));
+    EXPECT_OK(msmcl_scatter_prefilter_depth_device(context, &scene, &device_depth, 4, map_buffer, &blocking));
+    clReleaseMemObject(radiance_buffer);
+    clReleaseMemObject(camera_buffer);
+    clReleaseMemObject(map_buffer);
+    clReleaseMemObject(moment_buffer);
     clReleaseMemObject(depth_buffer);
 }
 
@@ -150,7 +271,11 @@ int main(void) {
     EXPECT_OK(msmcl_context_create_from_cl(msmcl_context_cl_context(context), msmcl_context_cl_device(context),
                                            msmcl_context_cl_queue(context), &borrowed));
     EXPECT_OK(msmcl_context_set_binary_cache_dir(borrowed, NULL));
-    if (borrowed) run(borrowed);
+    if (borrowed) {
+        run(borrowed);
+        run_arrays(borrowed);
+        run_scatter(borrowed);
+    }
     printf("capi_c_test: %u programs built\n", (unsigned)msmcl_context_programs_built(borrowed));
     EXPECT_OK(msmcl_context_finish(borrowed));
     msmcl_context_destroy(borrowed);

@@ -13,11 +13,13 @@
 #include <msmcl/filter.hpp>
 #include <msmcl/interop.hpp>
 #include <msmcl/sat.hpp>
+#include <msmcl/scatter.hpp>
 #include <msmcl/shade.hpp>
 #include <msmcl/version.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -254,6 +256,52 @@ TEST(CapiPlain, OptionDefaultsAreTheCppDefaults) {
     EXPECT_EQ(soft.depth_range, MSMCL_DEPTH_RANGE_ZERO_ONE);
     EXPECT_EQ(soft.receiver_blocker_weight, soft_cpp.receiver_blocker_weight);
     EXPECT_EQ(soft.filter_parts, soft_cpp.filter_parts);
+
+    msmcl_scatter_scene scene;
+    msmcl_scatter_scene_init(&scene);
+    const msmcl::ScatterScene scene_cpp;
+    const auto same_vector = [](const double (&c)[3], const msmcl::Vector3& cpp) {
+        return c[0] == cpp[0] && c[1] == cpp[1] && c[2] == cpp[2];
+    };
+    EXPECT_TRUE(same_vector(scene.light.direction, scene_cpp.light.direction));
+    EXPECT_TRUE(same_vector(scene.light.up, scene_cpp.light.up));
+    EXPECT_TRUE(same_vector(scene.light.center, scene_cpp.light.center));
+    EXPECT_EQ(scene.light.width, scene_cpp.light.width);
+    EXPECT_EQ(scene.light.height, scene_cpp.light.height);
+    EXPECT_EQ(scene.light.near_plane, scene_cpp.light.near);
+    EXPECT_EQ(scene.light.far_plane, scene_cpp.light.far);
+    EXPECT_EQ(scene.light.depth_range, MSMCL_DEPTH_RANGE_ZERO_ONE);
+    EXPECT_EQ(scene_cpp.light.depth_range, msmcl::DepthRange::zero_one);
+    EXPECT_TRUE(same_vector(scene.camera.position, scene_cpp.camera.position));
+    EXPECT_TRUE(same_vector(scene.camera.forward, scene_cpp.camera.forward));
+    EXPECT_TRUE(same_vector(scene.camera.up, scene_cpp.camera.up));
+    EXPECT_EQ(scene.camera.vertical_fov_degrees, scene_cpp.camera.vertical_fov_degrees);
+    EXPECT_EQ(scene.camera.near_plane, scene_cpp.camera.near);
+    EXPECT_EQ(scene.camera.far_plane, scene_cpp.camera.far);
+    EXPECT_EQ(scene.camera.width, scene_cpp.camera.width);
+    EXPECT_EQ(scene.camera.height, scene_cpp.camera.height);
+    EXPECT_EQ(scene.camera.depth, MSMCL_CAMERA_DEPTH_ZERO_ONE);
+    EXPECT_EQ(scene_cpp.camera.depth, msmcl::CameraDepth::zero_one);
+    EXPECT_EQ(scene.medium.extinction, scene_cpp.medium.extinction);
+    EXPECT_EQ(scene.medium.phase_g, scene_cpp.medium.phase_g);
+    EXPECT_EQ(scene.medium.irradiance, scene_cpp.medium.irradiance);
+    EXPECT_EQ(scene.rectified_width, scene_cpp.rectified_width);
+    EXPECT_EQ(scene.rectified_height, scene_cpp.rectified_height);
+    EXPECT_EQ(scene.guard_band, scene_cpp.guard_band);
+    EXPECT_EQ(msmcl_scatter_map_bytes(&scene), msmcl::scatter_map_bytes(scene_cpp));
+    EXPECT_EQ(msmcl_scatter_map_bytes(nullptr), 0u);
+
+    msmcl_scatter_options scatter;
+    msmcl_scatter_options_init(&scatter);
+    const msmcl::ScatterOptions scatter_cpp;
+    EXPECT_EQ(scatter.moments, scatter_cpp.moments);
+    EXPECT_EQ(scatter.filtered != 0, scatter_cpp.filtered);
+    EXPECT_EQ(scatter.filter_sigma, scatter_cpp.filter_sigma);
+    EXPECT_EQ(scatter.beta, scatter_cpp.beta);
+    EXPECT_EQ(scatter.kernel, MSMCL_SCATTER_KERNEL_AUTOMATIC);
+    EXPECT_EQ(scatter_cpp.kernel, msmcl::ScatterKernel::automatic);
+    EXPECT_EQ(scatter.filter_kernel, MSMCL_FILTER_KERNEL_AUTOMATIC);
+    EXPECT_EQ(scatter_cpp.filter_kernel, msmcl::FilterKernel::automatic);
 }
 
 TEST_F(Capi, ContextsAreTheCppContexts) {
@@ -606,6 +654,424 @@ TEST_F(Capi, SoftShadeEqualsCpp) {
                                receivers.z.data(), receivers.size(), nullptr, intensity.data()),
               MSMCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(msmcl_last_error_message()).find("table"), std::string::npos) << msmcl_last_error_message();
+}
+
+// The device version reads the table from a buffer or an image and keeps the queue and
+// event semantics of the other device calls (wait list, done event).
+TEST_F(Capi, SoftShadeDeviceEqualsCpp) {
+    msmcl::SatOptions sat;
+    sat.max_kernel_texels = 100;
+    const msmcl::SatTable table = msmcl::build_sat(*context_, depth_, sat);
+    std::mt19937 random(seed_ + 3);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    constexpr std::size_t count = 150;
+    msmcl::Receivers receivers;
+    for (std::size_t i = 0; i < count; ++i) {
+        receivers.u.push_back(-2.0f + (width + 4) * unit(random));
+        receivers.v.push_back(-2.0f + (height + 4) * unit(random));
+        receivers.z.push_back(unit(random));
+    }
+    std::vector<float> uvz = receivers.u;
+    uvz.insert(uvz.end(), receivers.v.begin(), receivers.v.end());
+    uvz.insert(uvz.end(), receivers.z.begin(), receivers.z.end());
+    cl_mem c_table = buffer(table.words.size() * 4, table.words.data());
+    cl_mem c_receivers = buffer(uvz.size() * 4, uvz.data());
+    cl_mem c_intensity = buffer(count * 4);
+    msmcl_soft_options options;
+    msmcl_soft_options_init(&options);
+    msmcl::SoftShadowOptions cpp;
+    options.light_size = cpp.light_size = 20.0f;
+    options.filter_parts = cpp.filter_parts = 3;
+    options.depth_range = MSMCL_DEPTH_RANGE_MINUS_ONE_ONE;
+    cpp.depth_range = msmcl::DepthRange::minus_one_one;
+    // After a user event, with a done event: nothing runs before the event completes.
+    cl_int status = CL_SUCCESS;
+    cl_event gate = clCreateUserEvent(context_->cl_context_handle(), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    cl_event done = nullptr;
+    const msmcl_enqueue chained{nullptr, &gate, 1, &done, 0};
+    ASSERT_EQ(msmcl_soft_shade_device(c_context_, c_table, width, height, 100, c_receivers, count, c_intensity,
+                                      &options, &chained),
+              MSMCL_SUCCESS)
+        << msmcl_last_error_message();
+    ASSERT_NE(done, nullptr);
+    ASSERT_EQ(clSetUserEventStatus(gate, CL_COMPLETE), CL_SUCCESS);
+    ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+    clReleaseEvent(done);
+    clReleaseEvent(gate);
+    EXPECT_EQ(read_buffer<float>(queue(), c_intensity, count), msmcl::soft_shade(*context_, table, receivers, cpp));
+
+    // The table in an image, as msmcl_build_sat_device writes one.
+    cl_mem image_table = image(msmcl_sat_image_format());
+    msmcl_sat_options c_sat;
+    msmcl_sat_options_init(&c_sat);
+    c_sat.max_kernel_texels = 100;
+    const msmcl_device_depth c_depth{buffer(values * 4, depth_.depth.data()), width, height, samples,
+                                     MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    ASSERT_EQ(msmcl_build_sat_device(c_context_, &c_depth, image_table, &c_sat, nullptr), MSMCL_SUCCESS);
+    const msmcl_enqueue blocking{nullptr, nullptr, 0, nullptr, 1};
+    ASSERT_EQ(msmcl_soft_shade_device(c_context_, image_table, width, height, 100, c_receivers, count, c_intensity,
+                                      &options, &blocking),
+              MSMCL_SUCCESS)
+        << msmcl_last_error_message();
+    EXPECT_EQ(read_buffer<float>(queue(), c_intensity, count), msmcl::soft_shade(*context_, table, receivers, cpp));
+
+    // Errors: the C++ API's (buffer and image), NULL arguments named.
+    const msmcl::DeviceSat cpp_table{c_table, width, height, 100};
+    msmcl_soft_options bad = options;
+    bad.search_size = 11;
+    msmcl::SoftShadowOptions bad_cpp = cpp;
+    bad_cpp.search_size = 11;
+    EXPECT_EQ(c_outcome(msmcl_soft_shade_device(c_context_, c_table, width, height, 100, c_receivers, count,
+                                                c_intensity, &bad, nullptr)),
+              cpp_outcome([&] { msmcl::soft_shade(*context_, cpp_table, c_receivers, count, c_intensity, bad_cpp); }));
+    EXPECT_EQ(c_outcome(msmcl_soft_shade_device(c_context_, c_table, width, height, 1, c_receivers, count,
+                                                c_intensity, nullptr, nullptr)),
+              cpp_outcome([&] {
+                  msmcl::soft_shade(*context_, msmcl::DeviceSat{c_table, width, height, 1}, c_receivers, count,
+                                    c_intensity, msmcl::SoftShadowOptions{});
+              }));
+    EXPECT_EQ(c_outcome(msmcl_soft_shade_device(c_context_, image_table, width + 1, height, 100, c_receivers, count,
+                                                c_intensity, nullptr, nullptr)),
+              cpp_outcome([&] {
+                  msmcl::soft_shade(*context_, msmcl::DeviceSatImage{image_table, width + 1, height, 100}, c_receivers,
+                                    count, c_intensity, msmcl::SoftShadowOptions{});
+              }));
+    EXPECT_EQ(msmcl_last_error_message(), std::string("soft: the table image is 37x29, smaller than the 38x29 table"));
+    EXPECT_EQ(msmcl_soft_shade_device(c_context_, c_table, width, height, 100, nullptr, count, c_intensity, nullptr,
+                                      nullptr),
+              MSMCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(msmcl_last_error_message()).find("receivers_uvz"), std::string::npos)
+        << msmcl_last_error_message();
+}
+
+// Texture arrays of translucent shadow maps: three array layers under two translucent
+// layers, host and device, filter and SAT.
+TEST_F(Capi, ArraysWithTranslucentLayersEqualCpp) {
+    constexpr int array_layers = 3;
+    std::mt19937 random(seed_ + 4);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    msmcl::DepthImage stack = depth_;
+    stack.layers = array_layers;
+    stack.depth.resize(values * array_layers);
+    for (float& d : stack.depth) d = unit(random);
+    std::vector<msmcl::TranslucentLayer> translucent(2);
+    for (msmcl::TranslucentLayer& layer : translucent)
+        for (std::size_t i = 0; i < values * array_layers; ++i) {
+            const float pick = unit(random);
+            layer.depth.push_back(unit(random));
+            layer.opacity.push_back(pick < 0.25f ? 0.0f : pick < 0.5f ? 1.0f : unit(random));
+        }
+    std::vector<msmcl_translucent_layer> c_translucent;
+    for (const msmcl::TranslucentLayer& layer : translucent)
+        c_translucent.push_back({layer.depth.data(), layer.opacity.data()});
+    // Device layout: translucent layer k of array layer a at a * 2 + k.
+    std::vector<float> device_depth, device_opacity;
+    for (int a = 0; a < array_layers; ++a)
+        for (const msmcl::TranslucentLayer& layer : translucent) {
+            device_depth.insert(device_depth.end(), layer.depth.begin() + a * values,
+                                layer.depth.begin() + (a + 1) * values);
+            device_opacity.insert(device_opacity.end(), layer.opacity.begin() + a * values,
+                                  layer.opacity.begin() + (a + 1) * values);
+        }
+    cl_mem depth = buffer(stack.depth.size() * 4, stack.depth.data());
+    cl_mem layer_depth = buffer(device_depth.size() * 4, device_depth.data());
+    cl_mem layer_opacity = buffer(device_opacity.size() * 4, device_opacity.data());
+    const msmcl_device_depth c_depth{depth, width, height, samples, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    const msmcl::DeviceDepth cpp_depth{depth, width, height, samples, array_layers};
+    const msmcl_device_layers c_layers{layer_depth, layer_opacity, 2};
+    const msmcl::DeviceLayers cpp_layers{layer_depth, layer_opacity, 2};
+
+    for (msmcl::Format format : {msmcl::Format::moments128, msmcl::Format::nlq32}) {
+        msmcl_filter_options options;
+        msmcl_filter_options_init(&options);
+        options.format = c_format(format);
+        msmcl::FilterOptions cpp;
+        cpp.format = format;
+        const std::size_t bytes = texels * array_layers * msmcl::texel_bytes(format);
+        std::vector<std::uint32_t> texture(bytes / 4);
+        ASSERT_EQ(msmcl_filter_array_layered(c_context_, stack.depth.data(), width, height, samples, array_layers,
+                                             c_translucent.data(), c_translucent.size(), &options, texture.data(),
+                                             bytes),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        const msmcl::Texture expected = msmcl::filter(*context_, stack, translucent, cpp);
+        EXPECT_EQ(texture, expected.words) << msmcl::format_name(format);
+        cl_mem c_texture = buffer(bytes), cpp_texture = buffer(bytes);
+        ASSERT_EQ(msmcl_filter_array_layered_device(c_context_, &c_depth, array_layers, &c_layers, c_texture, &options,
+                                                    nullptr),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        msmcl::filter(*context_, cpp_depth, cpp_layers, cpp_texture, cpp);
+        EXPECT_EQ(read_buffer<std::uint32_t>(queue(), c_texture, bytes / 4),
+                  read_buffer<std::uint32_t>(queue(), cpp_texture, bytes / 4))
+            << msmcl::format_name(format);
+    }
+
+    std::vector<std::uint32_t> table(4 * texels * array_layers);
+    ASSERT_EQ(msmcl_build_sat_array_layered(c_context_, stack.depth.data(), width, height, samples, array_layers,
+                                            c_translucent.data(), c_translucent.size(), nullptr, table.data(),
+                                            table.size()),
+              MSMCL_SUCCESS)
+        << msmcl_last_error_message();
+    EXPECT_EQ(table, msmcl::build_sat(*context_, stack, translucent, msmcl::SatOptions{}).words);
+    cl_mem c_table = buffer(table.size() * 4), cpp_table = buffer(table.size() * 4);
+    ASSERT_EQ(msmcl_build_sat_array_layered_device(c_context_, &c_depth, array_layers, &c_layers, c_table, nullptr,
+                                                   nullptr),
+              MSMCL_SUCCESS)
+        << msmcl_last_error_message();
+    msmcl::build_sat(*context_, cpp_depth, cpp_layers, cpp_table, msmcl::SatOptions{});
+    EXPECT_EQ(read_buffer<std::uint32_t>(queue(), c_table, table.size()),
+              read_buffer<std::uint32_t>(queue(), cpp_table, table.size()));
+
+    // Errors: a bad value names its array layer as the C++ API does; too few table words;
+    // an image with layers.
+    std::vector<msmcl::TranslucentLayer> bad = translucent;
+    bad[1].opacity[2 * values + 7] = 2.0f;
+    const std::vector<msmcl_translucent_layer> c_bad{{bad[0].depth.data(), bad[0].opacity.data()},
+                                                     {bad[1].depth.data(), bad[1].opacity.data()}};
+    EXPECT_EQ(c_outcome(msmcl_build_sat_array_layered(c_context_, stack.depth.data(), width, height, samples,
+                                                      array_layers, c_bad.data(), c_bad.size(), nullptr, table.data(),
+                                                      table.size())),
+              cpp_outcome([&] { msmcl::build_sat(*context_, stack, bad, msmcl::SatOptions{}); }));
+    EXPECT_EQ(msmcl_build_sat_array_layered(c_context_, stack.depth.data(), width, height, samples, array_layers,
+                                            c_translucent.data(), c_translucent.size(), nullptr, table.data(),
+                                            table.size() - 1),
+              MSMCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(msmcl_last_error_message()).find("table_words"), std::string::npos);
+    cl_mem table_image = image(msmcl_sat_image_format());
+    EXPECT_EQ(msmcl_build_sat_array_layered_device(c_context_, &c_depth, array_layers, &c_layers, table_image, nullptr,
+                                                   nullptr),
+              MSMCL_ERROR_INPUT);
+}
+
+// A light from above, a camera looking down the street; the shadow map and camera depth
+// random values in range (the binding is the subject, not the picture).
+struct ScatterCase {
+    msmcl_scatter_scene c;
+    msmcl::ScatterScene cpp;
+    std::vector<float> camera_depth;
+};
+
+ScatterCase scatter_case(std::uint32_t seed) {
+    ScatterCase s;
+    msmcl_scatter_scene_init(&s.c);
+    const double direction[3] = {0.2, -1.0, 0.1}, center[3] = {0.0, 0.0, -5.0};
+    const double forward[3] = {0.3, -0.2, -1.0}, position[3] = {0.5, 1.0, 4.0};
+    std::copy(direction, direction + 3, s.c.light.direction);
+    std::copy(center, center + 3, s.c.light.center);
+    s.c.light.width = s.c.light.height = 20.0;
+    s.c.light.near_plane = -10.0;
+    s.c.light.far_plane = 10.0;
+    std::copy(forward, forward + 3, s.c.camera.forward);
+    std::copy(position, position + 3, s.c.camera.position);
+    s.c.camera.vertical_fov_degrees = 50.0;
+    s.c.camera.near_plane = 0.1;
+    s.c.camera.far_plane = 30.0;
+    s.c.camera.width = 40;
+    s.c.camera.height = 30;
+    s.c.medium.extinction = 0.15;
+    s.c.medium.phase_g = 0.3;
+    s.c.medium.irradiance = 2.0;
+    s.c.rectified_width = 64;
+    s.c.rectified_height = 48;
+    s.cpp.light.direction = {0.2, -1.0, 0.1};
+    s.cpp.light.center = {0.0, 0.0, -5.0};
+    s.cpp.light.width = s.cpp.light.height = 20.0;
+    s.cpp.light.near = -10.0;
+    s.cpp.light.far = 10.0;
+    s.cpp.camera.forward = {0.3, -0.2, -1.0};
+    s.cpp.camera.position = {0.5, 1.0, 4.0};
+    s.cpp.camera.vertical_fov_degrees = 50.0;
+    s.cpp.camera.near = 0.1;
+    s.cpp.camera.far = 30.0;
+    s.cpp.camera.width = 40;
+    s.cpp.camera.height = 30;
+    s.cpp.medium.extinction = 0.15;
+    s.cpp.medium.phase_g = 0.3;
+    s.cpp.medium.irradiance = 2.0;
+    s.cpp.rectified_width = 64;
+    s.cpp.rectified_height = 48;
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> far_half(0.5f, 1.0f);
+    s.camera_depth.resize(40 * 30);
+    for (float& d : s.camera_depth) d = far_half(random);
+    return s;
+}
+
+TEST_F(Capi, ScatterEqualsCpp) {
+    const ScatterCase s = scatter_case(seed_ + 5);
+    const std::size_t pixels = s.camera_depth.size();
+    for (int variant = 0; variant < 3; ++variant) {
+        msmcl_scatter_options options;
+        msmcl_scatter_options_init(&options);
+        msmcl::ScatterOptions cpp;
+        if (variant == 1) {
+            options.moments = cpp.moments = 4;
+            options.filter_sigma = cpp.filter_sigma = 2.0f;
+            options.beta = cpp.beta = 0.25f;
+            options.kernel = MSMCL_SCATTER_KERNEL_ROWS_GPU;
+            cpp.kernel = msmcl::ScatterKernel::rows_gpu;
+        } else if (variant == 2) {
+            options.filtered = 0;
+            cpp.filtered = false;
+            options.kernel = MSMCL_SCATTER_KERNEL_ROWS_CPU;
+            cpp.kernel = msmcl::ScatterKernel::rows_cpu;
+            options.filter_kernel = MSMCL_FILTER_KERNEL_THREE_PASS;
+            cpp.filter_kernel = msmcl::FilterKernel::three_pass;
+        }
+        const std::vector<float> expected = msmcl::scatter(*context_, s.cpp, depth_, s.camera_depth, cpp);
+        // Some light and some shadow: the comparison is not of constants.
+        const auto [darkest, brightest] = std::minmax_element(expected.begin(), expected.end());
+        EXPECT_LT(*darkest, *brightest) << variant;
+        EXPECT_GT(*brightest, 0.0f) << variant;
+        std::vector<float> radiance(pixels, -1.0f);
+        ASSERT_EQ(msmcl_scatter(c_context_, &s.c, depth_.depth.data(), width, height, samples, s.camera_depth.data(),
+                                &options, radiance.data()),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        EXPECT_EQ(radiance, expected) << variant;
+        // The two halves.
+        const msmcl::ScatterMap map = msmcl::scatter_prefilter(*context_, s.cpp, depth_, cpp);
+        std::vector<std::uint32_t> words(msmcl_scatter_map_bytes(&s.c) / 4);
+        ASSERT_EQ(msmcl_scatter_prefilter(c_context_, &s.c, depth_.depth.data(), width, height, samples, &options,
+                                          words.data(), words.size() * 4),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        EXPECT_EQ(words, map.words) << variant;
+        std::fill(radiance.begin(), radiance.end(), -1.0f);
+        ASSERT_EQ(msmcl_scatter_evaluate(c_context_, &s.c, words.data(), words.size() * 4, s.camera_depth.data(),
+                                         &options, radiance.data()),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        EXPECT_EQ(radiance, msmcl::scatter_evaluate(*context_, s.cpp, map, s.camera_depth, cpp)) << variant;
+    }
+}
+
+// The device path an engine runs (its moments128 map or depth buffer, its camera depth):
+// the host call's bytes.
+TEST_F(Capi, ScatterDeviceEqualsHost) {
+    const ScatterCase s = scatter_case(seed_ + 6);
+    const std::size_t pixels = s.camera_depth.size();
+    cl_mem depth = buffer(values * 4, depth_.depth.data());
+    cl_mem camera_depth = buffer(pixels * 4, s.camera_depth.data());
+    cl_mem map = buffer(msmcl_scatter_map_bytes(&s.c));
+    cl_mem radiance = buffer(pixels * 4);
+    const msmcl_device_depth c_depth{depth, width, height, samples, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    for (int moments : {4, 6}) {
+        msmcl::ScatterOptions cpp;
+        cpp.moments = moments;
+        // Filtered: the moments128 map of the C filter call, then prefilter and evaluate.
+        msmcl_filter_options filter;
+        msmcl_filter_options_init(&filter);
+        filter.format = MSMCL_FORMAT_MOMENTS128;
+        filter.sigma = cpp.filter_sigma;
+        cl_mem moment_map = buffer(texels * 16);
+        ASSERT_EQ(msmcl_filter_device(c_context_, &c_depth, moment_map, &filter, nullptr), MSMCL_SUCCESS);
+        ASSERT_EQ(msmcl_scatter_prefilter_device(c_context_, &s.c, moment_map, width, height, moments, map, nullptr),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        cl_event done = nullptr;
+        const msmcl_enqueue finished{nullptr, nullptr, 0, &done, 0};
+        ASSERT_EQ(msmcl_scatter_evaluate_device(c_context_, &s.c, map, moments, camera_depth, radiance, cpp.beta,
+                                                &finished),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        ASSERT_NE(done, nullptr);
+        ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+        clReleaseEvent(done);
+        EXPECT_EQ(read_buffer<float>(queue(), radiance, pixels),
+                  msmcl::scatter(*context_, s.cpp, depth_, s.camera_depth, cpp))
+            << moments;
+        // Unfiltered, from the depth buffer.
+        cpp.filtered = false;
+        ASSERT_EQ(msmcl_scatter_prefilter_depth_device(c_context_, &s.c, &c_depth, moments, map, nullptr),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        ASSERT_EQ(msmcl_scatter_evaluate_device(c_context_, &s.c, map, moments, camera_depth, radiance, cpp.beta,
+                                                nullptr),
+                  MSMCL_SUCCESS)
+            << msmcl_last_error_message();
+        EXPECT_EQ(read_buffer<float>(queue(), radiance, pixels),
+                  msmcl::scatter(*context_, s.cpp, depth_, s.camera_depth, cpp))
+            << moments;
+    }
+}
+
+// The C++ API's errors arrive as its status and message; C misuse names the argument.
+TEST_F(Capi, ScatterErrors) {
+    ScatterCase s = scatter_case(seed_ + 7);
+    std::vector<float> radiance(s.camera_depth.size());
+    std::vector<std::uint32_t> words(msmcl_scatter_map_bytes(&s.c) / 4);
+    const float* depth = depth_.depth.data();
+    // A medium without extinction, a camera inside geometry, 5 moments, beta 2.
+    s.c.medium.extinction = 0.0;
+    s.cpp.medium.extinction = 0.0;
+    EXPECT_EQ(c_outcome(msmcl_scatter(c_context_, &s.c, depth, width, height, samples, s.camera_depth.data(), nullptr,
+                                      radiance.data())),
+              cpp_outcome([&] { msmcl::scatter(*context_, s.cpp, depth_, s.camera_depth, msmcl::ScatterOptions{}); }));
+    s.c.medium.extinction = s.cpp.medium.extinction = 0.15;
+    std::vector<float> inside(s.camera_depth.size(), 0.0f);
+    EXPECT_EQ(c_outcome(msmcl_scatter(c_context_, &s.c, depth, width, height, samples, inside.data(), nullptr,
+                                      radiance.data())),
+              cpp_outcome([&] { msmcl::scatter(*context_, s.cpp, depth_, inside, msmcl::ScatterOptions{}); }));
+    msmcl_scatter_options options;
+    msmcl_scatter_options_init(&options);
+    options.moments = 5;
+    msmcl::ScatterOptions cpp;
+    cpp.moments = 5;
+    EXPECT_EQ(c_outcome(msmcl_scatter_prefilter(c_context_, &s.c, depth, width, height, samples, &options,
+                                                words.data(), words.size() * 4)),
+              cpp_outcome([&] { msmcl::scatter_prefilter(*context_, s.cpp, depth_, cpp); }));
+    cl_mem map = buffer(words.size() * 4), camera_depth = buffer(radiance.size() * 4, s.camera_depth.data());
+    cl_mem out = buffer(radiance.size() * 4);
+    EXPECT_EQ(c_outcome(msmcl_scatter_evaluate_device(c_context_, &s.c, map, 6, camera_depth, out, 2.0f, nullptr)),
+              cpp_outcome([&] { msmcl::scatter_evaluate(*context_, s.cpp, map, 6, camera_depth, out, 2.0f); }));
+    cl_mem moments128 = buffer(texels * 16);
+    EXPECT_EQ(c_outcome(msmcl_scatter_prefilter_device(c_context_, &s.c, moments128, width, height, 3, map, nullptr)),
+              cpp_outcome([&] {
+                  msmcl::scatter_prefilter(*context_, s.cpp,
+                                           msmcl::DeviceTexture{moments128, msmcl::Format::moments128, width, height},
+                                           map, 3);
+              }));
+
+    const auto expect_invalid = [](msmcl_status status, const std::string& needle) {
+        EXPECT_EQ(status, MSMCL_ERROR_INVALID_ARGUMENT) << msmcl_status_name(status) << ": " << msmcl_last_error_message();
+        EXPECT_NE(std::string(msmcl_last_error_message()).find(needle), std::string::npos)
+            << "'" << msmcl_last_error_message() << "' lacks '" << needle << "'";
+    };
+    expect_invalid(msmcl_scatter(c_context_, nullptr, depth, width, height, samples, s.camera_depth.data(), nullptr,
+                                 radiance.data()),
+                   "scene");
+    expect_invalid(msmcl_scatter(c_context_, &s.c, depth, width, height, samples, nullptr, nullptr, radiance.data()),
+                   "camera_depth");
+    expect_invalid(msmcl_scatter_prefilter(c_context_, &s.c, depth, width, height, samples, nullptr, words.data(),
+                                           words.size() * 4 - 1),
+                   "map_bytes");
+    msmcl_scatter_scene odd = s.c;
+    odd.camera.depth = static_cast<msmcl_camera_depth>(3);
+    expect_invalid(msmcl_scatter_evaluate(c_context_, &odd, words.data(), words.size() * 4, s.camera_depth.data(),
+                                          nullptr, radiance.data()),
+                   "camera depth 3");
+    options.moments = 6;
+    options.kernel = static_cast<msmcl_scatter_kernel>(-1);
+    expect_invalid(msmcl_scatter(c_context_, &s.c, depth, width, height, samples, s.camera_depth.data(), &options,
+                                 radiance.data()),
+                   "scatter kernel -1");
+    options.kernel = MSMCL_SCATTER_KERNEL_AUTOMATIC;
+    options.filter_kernel = static_cast<msmcl_filter_kernel>(8);
+    expect_invalid(msmcl_scatter(c_context_, &s.c, depth, width, height, samples, s.camera_depth.data(), &options,
+                                 radiance.data()),
+                   "filter kernel 8");
+    expect_invalid(msmcl_scatter_evaluate_device(c_context_, &s.c, map, 6, nullptr, out, -1.0f, nullptr),
+                   "camera_depth");
+    const msmcl_device_depth no_memory{nullptr, width, height, samples, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    expect_invalid(msmcl_scatter_prefilter_depth_device(c_context_, &s.c, &no_memory, 6, map, nullptr),
+                   "shadow_map->memory");
+    // A depth image: the C++ API resamples buffers only.
+    cl_image_format depth_format{CL_R, CL_FLOAT};
+    const msmcl_device_depth in_image{image(depth_format), width, height, 1, MSMCL_SAMPLE_LAYOUT_SIDE_BY_SIDE};
+    EXPECT_EQ(msmcl_scatter_prefilter_depth_device(c_context_, &s.c, &in_image, 6, map, nullptr), MSMCL_ERROR_INPUT);
 }
 
 TEST_F(Capi, CppErrorsBecomeStatusAndMessage) {

@@ -275,6 +275,79 @@ TEST_F(InteropTest, SatIntoImageFromBufferAndLayeredImage) {
     clReleaseMemObject(table);
 }
 
+// Soft shadows from a table image: the buffer call's intensities, after the caller's event;
+// a wrong image refused before anything is enqueued.
+TEST_F(InteropTest, SoftShadowsFromATableImage) {
+    const msmcl::DepthImage depth = random_depth(45, 26, 2, seed_ + 6);
+    msmcl::SatOptions options;
+    options.max_kernel_texels = 11 * 11;
+    const msmcl::SatTable host = msmcl::build_sat(*context_, depth, options);
+    const cl_mem table = device_image(msmcl::sat_image_format(), 48, 30, 0, nullptr, 0);
+    const cl::Buffer depth_buffer = device_buffer(depth.depth.data(), depth.depth.size() * sizeof(float));
+    msmcl::build_sat_to_image(*context_, msmcl::DeviceDepth{depth_buffer(), depth.width, depth.height, depth.samples},
+                              table, options);
+    std::mt19937 random(seed_ + 7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    msmcl::Receivers receivers;
+    for (int i = 0; i < 300; ++i) {
+        receivers.u.push_back(depth.width * unit(random));
+        receivers.v.push_back(depth.height * unit(random));
+        receivers.z.push_back(unit(random));
+    }
+    std::vector<float> uvz = receivers.u;
+    uvz.insert(uvz.end(), receivers.v.begin(), receivers.v.end());
+    uvz.insert(uvz.end(), receivers.z.begin(), receivers.z.end());
+    const cl::Buffer receiver_buffer = device_buffer(uvz.data(), uvz.size() * sizeof(float));
+    const cl::Buffer intensity = device_buffer(nullptr, receivers.size() * sizeof(float));
+    msmcl::SoftShadowOptions soft;
+    soft.light_size = 12.0f;
+    cl_int status = CL_SUCCESS;
+    cl_event gate = clCreateUserEvent(cl(), &status);
+    ASSERT_EQ(status, CL_SUCCESS);
+    cl_event done = nullptr;
+    msmcl::Enqueue enqueue;
+    enqueue.wait_for = {gate};
+    enqueue.done = &done;
+    const msmcl::DeviceSatImage in_image{table, depth.width, depth.height, options.max_kernel_texels};
+    msmcl::soft_shade(*context_, in_image, receiver_buffer(), receivers.size(), intensity(), soft, enqueue);
+    ASSERT_NE(done, nullptr);
+    cl_int execution = CL_COMPLETE;
+    clGetEventInfo(done, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof execution, &execution, nullptr);
+    EXPECT_NE(execution, CL_COMPLETE);
+    ASSERT_EQ(clSetUserEventStatus(gate, CL_COMPLETE), CL_SUCCESS);
+    ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+    const std::vector<float> expected = msmcl::soft_shade(*context_, host, receivers, soft);
+    std::vector<float> got(receivers.size());
+    const std::vector<std::uint32_t> words = read_buffer(intensity, got.size());
+    std::memcpy(got.data(), words.data(), got.size() * sizeof(float));
+    EXPECT_EQ(got, expected);
+    clReleaseEvent(done);
+    clReleaseEvent(gate);
+
+    const auto message_of = [](auto call) -> std::string {
+        try {
+            call();
+        } catch (const msmcl::input_error& e) {
+            return e.what();
+        }
+        return "no input_error";
+    };
+    const cl_mem wrong_format = device_image(cl_image_format{CL_RGBA, CL_FLOAT}, 48, 30, 0, nullptr, 0);
+    const cl_mem array = device_image(msmcl::sat_image_format(), 48, 30, 2, nullptr, 0);
+    const auto shade_from = [&](cl_mem image, int width) {
+        return message_of([&] {
+            msmcl::soft_shade(*context_, msmcl::DeviceSatImage{image, width, depth.height, options.max_kernel_texels},
+                              receiver_buffer(), receivers.size(), intensity(), soft);
+        });
+    };
+    EXPECT_NE(shade_from(wrong_format, depth.width).find("CL_RGBA/CL_FLOAT, expected CL_RGBA/CL_UNSIGNED_INT32"),
+              std::string::npos);
+    EXPECT_NE(shade_from(array, depth.width).find("array"), std::string::npos);
+    EXPECT_NE(shade_from(table, 49).find("48x30, smaller than the 49x26"), std::string::npos);
+    EXPECT_NE(shade_from(depth_buffer(), depth.width).find("not a 2D image"), std::string::npos);
+    for (cl_mem m : {table, wrong_format, array}) clReleaseMemObject(m);
+}
+
 // The call joins the caller's queue: it waits for the caller's event and reports its own.
 TEST_F(InteropTest, ChainsIntoTheCallersQueueByEvents) {
     const msmcl::DepthImage depth = random_depth(24, 24, 1, seed_ + 4);

@@ -91,6 +91,29 @@ inline uvec4 texelFetch(const usampler2D& t, ivec2 at, int) {
     if (t.channels == 2) return uvec4{p[0], p[1], 0u, 1u};
     return uvec4{p[0], p[1], p[2], p[3]};
 }
+// Texture arrays: layer after layer of width x height texels.
+struct ivec3 {
+    int x, y, z;
+    ivec3(int a, int b, int c) : x(a), y(b), z(c) {}
+};
+struct sampler2DArray {
+    const float* texels;
+    int width;
+    int height;
+};
+struct usampler2DArray {
+    const unsigned* texels;
+    int width;
+    int height;
+};
+inline vec4 texelFetch(const sampler2DArray& t, ivec3 at, int) {
+    return texelFetch(sampler2D{t.texels + 4 * static_cast<std::size_t>(at.z) * t.width * t.height, t.width},
+                      ivec2(at.x, at.y), 0);
+}
+inline uvec4 texelFetch(const usampler2DArray& t, ivec3 at, int) {
+    return texelFetch(usampler2D{t.texels + static_cast<std::size_t>(at.z) * t.width * t.height, t.width, 1},
+                      ivec2(at.x, at.y), 0);
+}
 #include "shaders/msm.glsl"
 } // namespace glsl_shader
 
@@ -152,6 +175,33 @@ struct Texture2D<uint4> {
         if (channels == 1) return uint4{p[0], 0u, 0u, 1u};
         if (channels == 2) return uint4{p[0], p[1], 0u, 1u};
         return uint4{p[0], p[1], p[2], p[3]};
+    }
+};
+// Texture arrays (one channel for uint4: nlq32): layer after layer of width x height texels.
+struct int4 {
+    int x, y, z, w;
+    int4(int a, int b, int c, int d) : x(a), y(b), z(c), w(d) {}
+};
+template <class Texel>
+struct Texture2DArray;
+template <>
+struct Texture2DArray<float4> {
+    const float* texels;
+    int width;
+    int height;
+    float4 Load(int4 at) const {
+        return Texture2D<float4>{texels + 4 * static_cast<std::size_t>(at.z) * width * height, width}.Load(
+            int3(at.x, at.y, 0));
+    }
+};
+template <>
+struct Texture2DArray<uint4> {
+    const unsigned* texels;
+    int width;
+    int height;
+    uint4 Load(int4 at) const {
+        return Texture2D<uint4>{texels + static_cast<std::size_t>(at.z) * width * height, width, 1}.Load(
+            int3(at.x, at.y, 0));
     }
 };
 #include "shaders/msm.hlsl"
@@ -632,6 +682,73 @@ TEST(ShaderFunctions, AccurateMoments128MatchesTheDeviceFunctions) {
     EXPECT_LE(largest, 1e-5);
 }
 
+// The texture-array lookups read layer `layer` and shade it as the 2D lookups shade a
+// texture holding that layer alone: bit for bit, every format and lookup, GLSL and HLSL.
+TEST(ShaderFunctions, ArrayLookupsEqualTheLookupsOfTheLayer) {
+    std::mt19937 random(test_seed());
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<unsigned> word;
+    const int width = 13, height = 9, layers = 3;
+    const std::size_t texels = static_cast<std::size_t>(width) * height;
+    // Moments of one depth per texel (moments128), unorm16 channels (msm64, nlq64), packed words (nlq32).
+    std::vector<float> moments(4 * texels * layers), channels(4 * texels * layers);
+    std::vector<unsigned> words(texels * layers);
+    for (std::size_t i = 0; i < texels * layers; ++i) {
+        const float z = unit(random) * 2.0f - 1.0f;
+        moments[4 * i] = z, moments[4 * i + 1] = z * z, moments[4 * i + 2] = z * z * z, moments[4 * i + 3] = z * z * z * z;
+        for (int c = 0; c < 4; ++c) channels[4 * i + c] = float(word(random) & 0xffffu) / 65535.0f;
+        words[i] = word(random);
+    }
+    int compared = 0;
+    for (int layer = 0; layer < layers; ++layer) {
+        const float* moment_layer = moments.data() + 4 * texels * layer;
+        const float* channel_layer = channels.data() + 4 * texels * layer;
+        const unsigned* word_layer = words.data() + texels * layer;
+        for (int trial = 0; trial < 200; ++trial) {
+            const float u = unit(random) * (width + 2) - 1, v = unit(random) * (height + 2) - 1;
+            const float zf = unit(random) * 2.0f - 1.0f, nx = unit(random), ny = unit(random);
+            for (int lookup = 0; lookup < 3; ++lookup) {
+                SCOPED_TRACE("layer " + std::to_string(layer) + ", lookup " + std::to_string(lookup));
+                namespace g = glsl_shader;
+                namespace h = hlsl_shader;
+                using HFloats = h::Texture2DArray<h::float4>;
+                using HWords = h::Texture2DArray<h::uint4>;
+                const g::vec2 gn(nx, ny);
+                const h::float2 hn(nx, ny);
+                const float expected[5] = {
+                    g::msm_lookup_moments128(g::sampler2D{moment_layer, width}, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_msm64(g::sampler2D{channel_layer, width}, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_nlq64(g::sampler2D{channel_layer, width}, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_nlq32(g::usampler2D{word_layer, width, 1}, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_moments128_accurate(g::sampler2D{moment_layer, width}, width, height, u, v, zf, lookup,
+                                                      gn)};
+                const g::sampler2DArray gm{moments.data(), width, height}, gc{channels.data(), width, height};
+                const g::usampler2DArray gw{words.data(), width, height};
+                const float glsl[5] = {
+                    g::msm_lookup_moments128_array(gm, layer, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_msm64_array(gc, layer, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_nlq64_array(gc, layer, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_nlq32_array(gw, layer, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_moments128_accurate_array(gm, layer, width, height, u, v, zf, lookup, gn)};
+                const HFloats hm{moments.data(), width, height}, hc{channels.data(), width, height};
+                const HWords hw{words.data(), width, height};
+                const float hlsl[5] = {
+                    h::msm_lookup_moments128_array(hm, layer, width, height, u, v, zf, lookup, hn),
+                    h::msm_lookup_msm64_array(hc, layer, width, height, u, v, zf, lookup, hn),
+                    h::msm_lookup_nlq64_array(hc, layer, width, height, u, v, zf, lookup, hn),
+                    h::msm_lookup_nlq32_array(hw, layer, width, height, u, v, zf, lookup, hn),
+                    h::msm_lookup_moments128_accurate_array(hm, layer, width, height, u, v, zf, lookup, hn)};
+                for (int f = 0; f < 5; ++f) {
+                    ASSERT_TRUE(same_bits(glsl[f], expected[f])) << "function " << f << ": " << glsl[f] << " vs " << expected[f];
+                    ASSERT_TRUE(same_bits(hlsl[f], expected[f])) << "function " << f << ": " << hlsl[f] << " vs " << expected[f];
+                    ++compared;
+                }
+            }
+        }
+    }
+    std::printf("texture-array lookups: %d results equal to the 2D lookups of their layer\n", compared);
+}
+
 TEST(ShaderFiles, HlslIsGeneratedFromGlsl) {
     const fs::path source = MSMCL_SOURCE_DIR;
     const fs::path generated = fs::temp_directory_path() / ("msmcl-msm-" + std::to_string(::getpid()) + ".hlsl");
@@ -660,6 +777,8 @@ layout(binding = 4) uniform usampler2D sat_table;
 layout(binding = 5) uniform sampler2D moments6_odd;
 layout(binding = 6) uniform sampler2D moments6_even;
 layout(binding = 8) uniform usampler2D blue_noise;
+layout(binding = 9) uniform sampler2DArray float_array;
+layout(binding = 10) uniform usampler2DArray uint_array;
 layout(std430, binding = 7) buffer Results { float results[]; };
 void main() {
     float zf = msm_internal_depth(0.5f, true) - 1e-3f;
@@ -686,6 +805,14 @@ void main() {
     results[13] = msm_scatter_shadow6(six, zf, 0.5f);
     results[14] = msm_scatter_shadow4(msm_decode_msm64(texture(msm64_map, uv)), zf, 0.5f);
     results[15] = msm_lookup_moments128_accurate(moments128_map, 16, 16, 3.2f, 4.7f, zf, 1, noise);
+    for (int lookup = 0; lookup < 3; ++lookup) {
+        results[16 + 5 * lookup] = msm_lookup_moments128_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[17 + 5 * lookup] = msm_lookup_msm64_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[18 + 5 * lookup] = msm_lookup_nlq64_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[19 + 5 * lookup] = msm_lookup_nlq32_array(uint_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[20 + 5 * lookup] = msm_lookup_moments128_accurate_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup,
+                                                                        noise);
+    }
 }
 )";
 
@@ -699,6 +826,8 @@ Texture2D<float4> moments6_odd : register(t5);
 Texture2D<float4> moments6_even : register(t6);
 SamplerState bilinear : register(s0);
 Texture2D<uint4> blue_noise : register(t7);
+Texture2DArray<float4> float_array : register(t8);
+Texture2DArray<uint4> uint_array : register(t9);
 RWStructuredBuffer<float> results : register(u0);
 [numthreads(1, 1, 1)]
 void main(uint3 id : SV_DispatchThreadID) {
@@ -726,6 +855,14 @@ void main(uint3 id : SV_DispatchThreadID) {
     results[13] = msm_scatter_shadow6(six, zf, 0.5f);
     results[14] = msm_scatter_shadow4(msm_decode_msm64(msm64_map.SampleLevel(bilinear, uv, 0)), zf, 0.5f);
     results[15] = msm_lookup_moments128_accurate(moments128_map, 16, 16, 3.2f, 4.7f, zf, 1, noise);
+    for (int lookup = 0; lookup < 3; ++lookup) {
+        results[16 + 5 * lookup] = msm_lookup_moments128_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[17 + 5 * lookup] = msm_lookup_msm64_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[18 + 5 * lookup] = msm_lookup_nlq64_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[19 + 5 * lookup] = msm_lookup_nlq32_array(uint_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
+        results[20 + 5 * lookup] = msm_lookup_moments128_accurate_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup,
+                                                                        noise);
+    }
 }
 )";
 

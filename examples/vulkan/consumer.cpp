@@ -11,7 +11,8 @@
 //
 //   msmcl-vulkan devices
 //   msmcl-vulkan shade MAP.ktx2 RECEIVERS.exr OUT.exr [--lookup nearest|bilinear|dither|hardware] [--frame N]
-//                [--depth-bias B] [--depth-range 0,1|-1,1] [--accurate] [--hlsl]
+//                [--depth-bias B] [--depth-range 0,1|-1,1] [--accurate] [--layer L|all] [--hlsl]
+//     (a texture array: layer L into channel Y, or every layer i into channel layer<i>.Y)
 //   msmcl-vulkan soft SAT.ktx2 RECEIVERS.exr OUT.exr --light-size L [--search-size K] [--min-filter F] [--published]
 //                [--depth-bias B] [--depth-range R] [--hlsl]
 //   msmcl-vulkan scatter SCENE.json MAP.ktx2 CAMERA_DEPTH.exr OUT.exr [--beta adaptive|B] [--hlsl]
@@ -50,6 +51,14 @@
 #include "scatter4_hlsl.h"
 #include "scatter6_glsl.h"
 #include "scatter6_hlsl.h"
+#include "shade_array_glsl_0.h"
+#include "shade_array_glsl_1.h"
+#include "shade_array_glsl_2.h"
+#include "shade_array_glsl_3.h"
+#include "shade_array_hlsl_0.h"
+#include "shade_array_hlsl_1.h"
+#include "shade_array_hlsl_2.h"
+#include "shade_array_hlsl_3.h"
 #include "shade_glsl_0.h"
 #include "shade_glsl_1.h"
 #include "shade_glsl_2.h"
@@ -171,6 +180,7 @@ struct ShadeArguments {
     std::string depth_bias = "1e-3";
     std::string depth_range;
     bool accurate = false;
+    std::string layer; ///< texture arrays: a layer, or all (also when empty)
 };
 
 struct ShadePush {
@@ -181,7 +191,27 @@ struct ShadePush {
     std::uint32_t zero_one;
     std::uint32_t noise_texture, noise_offset_x, noise_offset_y;
     std::uint32_t accurate;
+    std::int32_t layer; ///< texture arrays: the layer shaded
 };
+
+/// The layers --layer picks from a texture array of `layers` layers: one, or all of them.
+std::vector<int> layers_to_shade(const std::string& option, int layers, const std::string& map) {
+    std::vector<int> picked;
+    if (option.empty() || option == "all") {
+        for (int layer = 0; layer < layers; ++layer) picked.push_back(layer);
+        return picked;
+    }
+    std::size_t used = 0;
+    int layer = -1;
+    try {
+        layer = std::stoi(option, &used);
+    } catch (const std::exception&) {
+    }
+    if (used != option.size() || layer < 0 || layer >= layers)
+        throw usage_error("--layer must be all or a layer in [0, " + std::to_string(layers - 1) + "] of " + map +
+                          ", got '" + option + "'");
+    return {layer};
+}
 
 void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArguments& a) {
     // Options first, then the files.
@@ -199,10 +229,11 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
         throw msmcl::input_error(a.map + ": no msmcl:format of a shadow map (moments128, msm64, nlq64, nlq32)");
     // Validates the file's vkFormat against the README's table for this texture.
     (void)msmcl::io::texture_of(image, *format, a.map);
-    // The shaders bind one 2D map (a cascade array's layer is a 2D view of it, see the README).
-    if (image.array || image.layers != 1)
-        throw msmcl::input_error(a.map + ": a texture array of " + std::to_string(image.layers) +
-                                 " layers; shade takes one 2D map");
+    // A 2D map, or a texture array (a cascade set) shaded layer by layer through sampler2DArray.
+    const bool array = image.array || image.layers != 1;
+    if (!array && !a.layer.empty())
+        throw usage_error("--layer picks a layer of a texture array; " + a.map + " is one 2D map");
+    const std::vector<int> layers = array ? layers_to_shade(a.layer, image.layers, a.map) : std::vector<int>{0};
     const int lookup_index = static_cast<int>(lookup - lookups.begin());
     const bool filterable = *format == msmcl::Format::moments128 || *format == msmcl::Format::msm64;
     if (lookup_index == 3 && !filterable)
@@ -217,7 +248,8 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
     if (!vulkan.supports_sampling(vk_format, filterable))
         throw msmcl::error("the Vulkan device cannot sample " + std::string(msmcl::io::gpu_format_info(image.format).name) +
                            (filterable ? " with linear filtering" : ""));
-    Image map = vulkan.upload_image(vk_format, image.width, image.height, 1, image.bytes);
+    Image map = vulkan.upload_image(vk_format, image.width, image.height, static_cast<std::uint32_t>(image.layers),
+                                    image.bytes, array);
     const VkSampler map_sampler = vulkan.create_sampler(filterable ? VK_FILTER_LINEAR : VK_FILTER_NEAREST,
                                                         VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
                                                         VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
@@ -233,27 +265,46 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
     bind_texture(bindings, language, 1, noise.view, nearest);
     const msmcl::BlueNoiseFrame frame = msmcl::blue_noise_frame(a.frame);
     const std::vector<ReceiverRecord> records = receiver_records(grid);
-    const ShadePush push{image.width,
-                         image.height,
-                         static_cast<std::uint32_t>(records.size()),
-                         lookup_index,
-                         depth_bias,
-                         depth_range_of(image, range_option) == msmcl::DepthRange::zero_one ? 1u : 0u,
-                         frame.texture,
-                         frame.offset_x,
-                         frame.offset_y,
-                         a.accurate ? 1u : 0u};
+    ShadePush push{image.width,
+                   image.height,
+                   static_cast<std::uint32_t>(records.size()),
+                   lookup_index,
+                   depth_bias,
+                   depth_range_of(image, range_option) == msmcl::DepthRange::zero_one ? 1u : 0u,
+                   frame.texture,
+                   frame.offset_x,
+                   frame.offset_y,
+                   a.accurate ? 1u : 0u,
+                   0};
     static const std::vector<std::uint32_t> glsl[4] = {words(shade_glsl_0), words(shade_glsl_1), words(shade_glsl_2),
                                                        words(shade_glsl_3)};
     static const std::vector<std::uint32_t> hlsl[4] = {words(shade_hlsl_0), words(shade_hlsl_1), words(shade_hlsl_2),
                                                        words(shade_hlsl_3)};
+    static const std::vector<std::uint32_t> glsl_array[4] = {words(shade_array_glsl_0), words(shade_array_glsl_1),
+                                                             words(shade_array_glsl_2), words(shade_array_glsl_3)};
+    static const std::vector<std::uint32_t> hlsl_array[4] = {words(shade_array_hlsl_0), words(shade_array_hlsl_1),
+                                                             words(shade_array_hlsl_2), words(shade_array_hlsl_3)};
     const int f = static_cast<int>(*format);
-    const std::vector<float> shadow =
-        run_pass(vulkan, language.hlsl ? hlsl[f] : glsl[f], language, bindings, map_sampler, records.data(),
-                 records.size() * sizeof(ReceiverRecord), &push, sizeof push, push.count);
+    const std::vector<std::uint32_t>& spirv =
+        array ? (language.hlsl ? hlsl_array[f] : glsl_array[f]) : (language.hlsl ? hlsl[f] : glsl[f]);
+    // One pass per layer: channel Y for a 2D map or one chosen layer, layer<i>.Y for all.
+    msmcl::io::ExrImage out;
+    out.width = grid.width;
+    out.height = grid.height;
+    for (int layer : layers) {
+        push.layer = layer;
+        const std::vector<float> shadow = run_pass(vulkan, spirv, language, bindings, map_sampler, records.data(),
+                                                   records.size() * sizeof(ReceiverRecord), &push, sizeof push, push.count);
+        const bool chosen_layer = !array || (!a.layer.empty() && a.layer != "all");
+        out.channels.push_back({chosen_layer ? "Y" : "layer" + std::to_string(layer) + ".Y",
+                                msmcl::io::SampleType::float32, shadow, {}});
+    }
     vulkan.destroy(map);
     vulkan.destroy(noise);
-    msmcl::io::write_intensity_exr(a.output, grid.width, grid.height, shadow);
+    if (out.channels.size() == 1 && out.channels[0].name == "Y")
+        msmcl::io::write_intensity_exr(a.output, grid.width, grid.height, out.channels[0].values);
+    else
+        msmcl::io::write_exr(a.output, out);
 }
 
 // ---- soft: moment soft shadows from the R32G32B32A32_UINT summed-area table.
@@ -494,6 +545,9 @@ int main(int argc, char** argv) {
     shade_command->add_option("--depth-bias", shade.depth_bias, "subtracted from the internal depth")
         ->capture_default_str();
     shade_command->add_option("--depth-range", shade.depth_range, "0,1 or -1,1 (default: the map's)");
+    shade_command->add_option("--layer", shade.layer,
+                              "texture arrays: shade layer L (channel Y), or all layers (default; channels layer<i>.Y)")
+        ->type_name("L|all");
     shade_command->add_flag("--accurate", shade.accurate,
                             "moments128: shade in float-float (msm_lookup_moments128_accurate), as msmcl does");
 

@@ -195,7 +195,7 @@ void VulkanCompute::submit_and_wait(VkCommandBuffer commands) {
 }
 
 Image VulkanCompute::upload_image(VkFormat format, std::uint32_t width, std::uint32_t height, std::uint32_t layers,
-                                  const std::vector<std::uint8_t>& bytes) {
+                                  const std::vector<std::uint8_t>& bytes, bool array) {
     Image result;
     result.format = format;
     result.width = width;
@@ -276,7 +276,7 @@ Image VulkanCompute::upload_image(VkFormat format, std::uint32_t width, std::uin
 
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = result.image;
-    view.viewType = layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    view.viewType = array || layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
     view.format = format;
     view.subresourceRange = range;
     check(vkCreateImageView(device_, &view, nullptr, &result.view), "vkCreateImageView");

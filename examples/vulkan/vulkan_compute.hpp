@@ -66,8 +66,9 @@ public:
     /// Creates an image of `format` and uploads `bytes` (layer after layer, rows top to
     /// bottom, texels packed) through a staging buffer: copy, then a barrier into
     /// SHADER_READ_ONLY_OPTIMAL for compute shaders.
+    /// `array`: a VK_IMAGE_VIEW_TYPE_2D_ARRAY view even of one layer (several layers always get one).
     Image upload_image(VkFormat format, std::uint32_t width, std::uint32_t height, std::uint32_t layers,
-                       const std::vector<std::uint8_t>& bytes);
+                       const std::vector<std::uint8_t>& bytes, bool array = false);
     void destroy(Image& image);
 
     VkSampler create_sampler(VkFilter filter, VkSamplerAddressMode address_u, VkSamplerAddressMode address_v);

@@ -8,6 +8,7 @@
 #include <msmcl/formats.hpp>
 #include <msmcl/interop.hpp>
 #include <msmcl/sat.hpp>
+#include <msmcl/scatter.hpp>
 #include <msmcl/shade.hpp>
 #include <msmcl/version.hpp>
 
@@ -106,6 +107,16 @@ msmcl::DepthRange to_depth_range(const msmcl_depth_range& range, const char* cal
     throw invalid_argument{std::string(call) + ": unknown depth range " + std::to_string(enum_value(range))};
 }
 
+msmcl::FilterKernel to_filter_kernel(const msmcl_filter_kernel& kernel, const char* call) {
+    switch (enum_value(kernel)) {
+    case MSMCL_FILTER_KERNEL_AUTOMATIC: return msmcl::FilterKernel::automatic;
+    case MSMCL_FILTER_KERNEL_FUSED_PAPER: return msmcl::FilterKernel::fused_paper;
+    case MSMCL_FILTER_KERNEL_THREE_PASS: return msmcl::FilterKernel::three_pass;
+    case MSMCL_FILTER_KERNEL_FUSED_CPU: return msmcl::FilterKernel::fused_cpu;
+    }
+    throw invalid_argument{std::string(call) + ": unknown filter kernel " + std::to_string(enum_value(kernel))};
+}
+
 msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, const char* call) {
     msmcl_filter_options c;
     msmcl_filter_options_init(&c);
@@ -114,14 +125,7 @@ msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, cons
     result.format = to_format(c.format, call);
     result.sigma = c.sigma;
     result.depth_range = to_depth_range(c.depth_range, call);
-    switch (enum_value(c.kernel)) {
-    case MSMCL_FILTER_KERNEL_AUTOMATIC: result.kernel = msmcl::FilterKernel::automatic; break;
-    case MSMCL_FILTER_KERNEL_FUSED_PAPER: result.kernel = msmcl::FilterKernel::fused_paper; break;
-    case MSMCL_FILTER_KERNEL_THREE_PASS: result.kernel = msmcl::FilterKernel::three_pass; break;
-    case MSMCL_FILTER_KERNEL_FUSED_CPU: result.kernel = msmcl::FilterKernel::fused_cpu; break;
-    default:
-        throw invalid_argument{std::string(call) + ": unknown filter kernel " + std::to_string(enum_value(c.kernel))};
-    }
+    result.kernel = to_filter_kernel(c.kernel, call);
     return result;
 }
 
@@ -436,6 +440,85 @@ void build_sat_device(msmcl_context* context, const msmcl_device_depth* depth, c
         msmcl::build_sat(context->context, in_image(), table, sat_options, plumbing);
     else
         msmcl::build_sat_to_image(context->context, in_image(), table, sat_options, plumbing);
+}
+
+// A C 3-vector as msmcl::Vector3.
+msmcl::Vector3 to_vector(const double (&v)[3]) { return {v[0], v[1], v[2]}; }
+
+msmcl::ScatterScene to_scatter_scene(const msmcl_scatter_scene* scene, const char* call) {
+    require(scene, call, "scene");
+    msmcl::ScatterScene result;
+    const msmcl_scatter_light& light = scene->light;
+    result.light.direction = to_vector(light.direction);
+    result.light.up = to_vector(light.up);
+    result.light.center = to_vector(light.center);
+    result.light.width = light.width;
+    result.light.height = light.height;
+    result.light.near = light.near_plane;
+    result.light.far = light.far_plane;
+    result.light.depth_range = to_depth_range(light.depth_range, call);
+    const msmcl_scatter_camera& camera = scene->camera;
+    result.camera.position = to_vector(camera.position);
+    result.camera.forward = to_vector(camera.forward);
+    result.camera.up = to_vector(camera.up);
+    result.camera.vertical_fov_degrees = camera.vertical_fov_degrees;
+    result.camera.near = camera.near_plane;
+    result.camera.far = camera.far_plane;
+    result.camera.width = camera.width;
+    result.camera.height = camera.height;
+    switch (enum_value(camera.depth)) {
+    case MSMCL_CAMERA_DEPTH_ZERO_ONE: result.camera.depth = msmcl::CameraDepth::zero_one; break;
+    case MSMCL_CAMERA_DEPTH_MINUS_ONE_ONE: result.camera.depth = msmcl::CameraDepth::minus_one_one; break;
+    case MSMCL_CAMERA_DEPTH_LINEAR: result.camera.depth = msmcl::CameraDepth::linear; break;
+    default:
+        throw invalid_argument{std::string(call) + ": unknown camera depth " + std::to_string(enum_value(camera.depth))};
+    }
+    result.medium.extinction = scene->medium.extinction;
+    result.medium.phase_g = scene->medium.phase_g;
+    result.medium.irradiance = scene->medium.irradiance;
+    result.rectified_width = scene->rectified_width;
+    result.rectified_height = scene->rectified_height;
+    result.guard_band = scene->guard_band;
+    return result;
+}
+
+msmcl::ScatterOptions to_scatter_options(const msmcl_scatter_options* options, const char* call) {
+    msmcl_scatter_options c;
+    msmcl_scatter_options_init(&c);
+    if (options) c = *options;
+    msmcl::ScatterOptions result;
+    result.moments = c.moments;
+    result.filtered = c.filtered != 0;
+    result.filter_sigma = c.filter_sigma;
+    result.beta = c.beta;
+    switch (enum_value(c.kernel)) {
+    case MSMCL_SCATTER_KERNEL_AUTOMATIC: result.kernel = msmcl::ScatterKernel::automatic; break;
+    case MSMCL_SCATTER_KERNEL_ROWS_GPU: result.kernel = msmcl::ScatterKernel::rows_gpu; break;
+    case MSMCL_SCATTER_KERNEL_ROWS_CPU: result.kernel = msmcl::ScatterKernel::rows_cpu; break;
+    default:
+        throw invalid_argument{std::string(call) + ": unknown scatter kernel " + std::to_string(enum_value(c.kernel))};
+    }
+    result.filter_kernel = to_filter_kernel(c.filter_kernel, call);
+    return result;
+}
+
+// The camera depth of a scene's camera, copied (the scene validated first: its size is read).
+std::vector<float> to_camera_depth(const msmcl::ScatterScene& scene, const float* camera_depth, const char* call) {
+    require(camera_depth, call, "camera_depth");
+    msmcl::validate_scatter_scene(scene);
+    const std::size_t pixels = static_cast<std::size_t>(scene.camera.width) * scene.camera.height;
+    return std::vector<float>(camera_depth, camera_depth + pixels);
+}
+
+// Bytes of a scene's prefiltered map, checked against what the caller holds.
+std::size_t require_map_bytes(const msmcl::ScatterScene& scene, std::size_t map_bytes, const char* call) {
+    msmcl::validate_scatter_scene(scene);
+    const std::size_t needed = msmcl::scatter_map_bytes(scene);
+    if (map_bytes < needed)
+        throw invalid_argument{std::string(call) + ": map_bytes is " + std::to_string(map_bytes) + ", a " +
+                               std::to_string(scene.rectified_width) + "x" + std::to_string(scene.rectified_height) +
+                               " prefiltered map needs " + std::to_string(needed)};
+    return needed;
 }
 
 } // namespace
@@ -779,6 +862,217 @@ msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_de
                                           const msmcl_enqueue* enqueue) {
     return guarded([&] {
         build_sat_device(context, depth, nullptr, table, options, enqueue, "msmcl_build_sat_array_device", layers);
+    });
+}
+
+msmcl_status msmcl_soft_shade_device(msmcl_context* context, cl_mem table, int width, int height,
+                                     uint32_t max_kernel_texels, cl_mem receivers_uvz, size_t count, cl_mem intensity,
+                                     const msmcl_soft_options* options, const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        const char* call = "msmcl_soft_shade_device";
+        require(context, call, "context");
+        if (!table || !receivers_uvz || !intensity)
+            throw invalid_argument{std::string(call) + ": " +
+                                   (!table ? "table" : !receivers_uvz ? "receivers_uvz" : "intensity") + " is NULL"};
+        const msmcl::SoftShadowOptions soft_options = to_soft_options(options, call);
+        const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+        // A buffer, or an image the C++ API stages into one.
+        if (is_buffer(table))
+            msmcl::soft_shade(context->context, msmcl::DeviceSat{table, width, height, max_kernel_texels},
+                              receivers_uvz, count, intensity, soft_options, plumbing);
+        else
+            msmcl::soft_shade(context->context, msmcl::DeviceSatImage{table, width, height, max_kernel_texels},
+                              receivers_uvz, count, intensity, soft_options, plumbing);
+    });
+}
+
+msmcl_status msmcl_filter_array_layered(msmcl_context* context, const float* depth, int width, int height, int samples,
+                                        int layers, const msmcl_translucent_layer* translucent, size_t layer_count,
+                                        const msmcl_filter_options* options, void* texture, size_t texture_bytes) {
+    return guarded([&] {
+        filter_host(context, depth, width, height, samples, translucent, layer_count, options, texture, texture_bytes,
+                    "msmcl_filter_array_layered", layers);
+    });
+}
+
+msmcl_status msmcl_filter_array_layered_device(msmcl_context* context, const msmcl_device_depth* depth, int layers,
+                                               const msmcl_device_layers* translucent, cl_mem texture,
+                                               const msmcl_filter_options* options, const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        filter_device(context, depth, translucent, texture, options, enqueue, "msmcl_filter_array_layered_device",
+                      layers);
+    });
+}
+
+msmcl_status msmcl_build_sat_array_layered(msmcl_context* context, const float* depth, int width, int height,
+                                           int samples, int layers, const msmcl_translucent_layer* translucent,
+                                           size_t layer_count, const msmcl_sat_options* options, uint32_t* table,
+                                           size_t table_words) {
+    return guarded([&] {
+        build_sat_host(context, depth, width, height, samples, translucent, layer_count, options, table, table_words,
+                       "msmcl_build_sat_array_layered", layers);
+    });
+}
+
+msmcl_status msmcl_build_sat_array_layered_device(msmcl_context* context, const msmcl_device_depth* depth, int layers,
+                                                  const msmcl_device_layers* translucent, cl_mem table,
+                                                  const msmcl_sat_options* options, const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        build_sat_device(context, depth, translucent, table, options, enqueue, "msmcl_build_sat_array_layered_device",
+                         layers);
+    });
+}
+
+void msmcl_scatter_scene_init(msmcl_scatter_scene* scene) {
+    if (!scene) return;
+    const msmcl::ScatterScene defaults;
+    const auto copy = [](const msmcl::Vector3& from, double (&to)[3]) { std::copy(from.begin(), from.end(), to); };
+    copy(defaults.light.direction, scene->light.direction);
+    copy(defaults.light.up, scene->light.up);
+    copy(defaults.light.center, scene->light.center);
+    scene->light.width = defaults.light.width;
+    scene->light.height = defaults.light.height;
+    scene->light.near_plane = defaults.light.near;
+    scene->light.far_plane = defaults.light.far;
+    scene->light.depth_range = static_cast<msmcl_depth_range>(defaults.light.depth_range);
+    copy(defaults.camera.position, scene->camera.position);
+    copy(defaults.camera.forward, scene->camera.forward);
+    copy(defaults.camera.up, scene->camera.up);
+    scene->camera.vertical_fov_degrees = defaults.camera.vertical_fov_degrees;
+    scene->camera.near_plane = defaults.camera.near;
+    scene->camera.far_plane = defaults.camera.far;
+    scene->camera.width = defaults.camera.width;
+    scene->camera.height = defaults.camera.height;
+    scene->camera.depth = static_cast<msmcl_camera_depth>(defaults.camera.depth);
+    scene->medium.extinction = defaults.medium.extinction;
+    scene->medium.phase_g = defaults.medium.phase_g;
+    scene->medium.irradiance = defaults.medium.irradiance;
+    scene->rectified_width = defaults.rectified_width;
+    scene->rectified_height = defaults.rectified_height;
+    scene->guard_band = defaults.guard_band;
+}
+
+void msmcl_scatter_options_init(msmcl_scatter_options* options) {
+    if (!options) return;
+    const msmcl::ScatterOptions defaults;
+    options->moments = defaults.moments;
+    options->filtered = defaults.filtered ? 1 : 0;
+    options->filter_sigma = defaults.filter_sigma;
+    options->beta = defaults.beta;
+    options->kernel = static_cast<msmcl_scatter_kernel>(defaults.kernel);
+    options->filter_kernel = static_cast<msmcl_filter_kernel>(defaults.filter_kernel);
+}
+
+size_t msmcl_scatter_map_bytes(const msmcl_scatter_scene* scene) {
+    if (!scene || scene->rectified_width <= 0 || scene->rectified_height <= 0) return 0;
+    return static_cast<std::size_t>(scene->rectified_width) * static_cast<std::size_t>(scene->rectified_height) * 8;
+}
+
+msmcl_status msmcl_scatter(msmcl_context* context, const msmcl_scatter_scene* scene, const float* shadow_depth,
+                           int width, int height, int samples, const float* camera_depth,
+                           const msmcl_scatter_options* options, float* radiance) {
+    return guarded([&] {
+        const char* call = "msmcl_scatter";
+        require(context, call, "context");
+        require(radiance, call, "radiance");
+        const msmcl::ScatterScene cpp_scene = to_scatter_scene(scene, call);
+        const msmcl::ScatterOptions scatter_options = to_scatter_options(options, call);
+        const msmcl::DepthImage shadow = to_depth_image(shadow_depth, width, height, samples, call);
+        const std::vector<float> camera = to_camera_depth(cpp_scene, camera_depth, call);
+        const std::vector<float> result = msmcl::scatter(context->context, cpp_scene, shadow, camera, scatter_options);
+        std::copy(result.begin(), result.end(), radiance);
+    });
+}
+
+msmcl_status msmcl_scatter_prefilter(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                     const float* shadow_depth, int width, int height, int samples,
+                                     const msmcl_scatter_options* options, void* map, size_t map_bytes) {
+    return guarded([&] {
+        const char* call = "msmcl_scatter_prefilter";
+        require(context, call, "context");
+        require(map, call, "map");
+        const msmcl::ScatterScene cpp_scene = to_scatter_scene(scene, call);
+        const std::size_t needed = require_map_bytes(cpp_scene, map_bytes, call);
+        const msmcl::ScatterOptions scatter_options = to_scatter_options(options, call);
+        const msmcl::DepthImage shadow = to_depth_image(shadow_depth, width, height, samples, call);
+        const msmcl::ScatterMap result = msmcl::scatter_prefilter(context->context, cpp_scene, shadow, scatter_options);
+        std::memcpy(map, result.words.data(), needed);
+    });
+}
+
+msmcl_status msmcl_scatter_evaluate(msmcl_context* context, const msmcl_scatter_scene* scene, const void* map,
+                                    size_t map_bytes, const float* camera_depth, const msmcl_scatter_options* options,
+                                    float* radiance) {
+    return guarded([&] {
+        const char* call = "msmcl_scatter_evaluate";
+        require(context, call, "context");
+        require(map, call, "map");
+        require(radiance, call, "radiance");
+        const msmcl::ScatterScene cpp_scene = to_scatter_scene(scene, call);
+        const std::size_t needed = require_map_bytes(cpp_scene, map_bytes, call);
+        const msmcl::ScatterOptions scatter_options = to_scatter_options(options, call);
+        // The map as the C++ API holds it: its words, its size the scene's.
+        msmcl::ScatterMap cpp_map;
+        cpp_map.moments = scatter_options.moments;
+        cpp_map.width = cpp_scene.rectified_width;
+        cpp_map.height = cpp_scene.rectified_height;
+        cpp_map.words.resize(needed / sizeof(std::uint32_t));
+        std::memcpy(cpp_map.words.data(), map, needed);
+        const std::vector<float> camera = to_camera_depth(cpp_scene, camera_depth, call);
+        const std::vector<float> result =
+            msmcl::scatter_evaluate(context->context, cpp_scene, cpp_map, camera, scatter_options);
+        std::copy(result.begin(), result.end(), radiance);
+    });
+}
+
+msmcl_status msmcl_scatter_prefilter_device(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                            cl_mem moment_map, int map_width, int map_height, int moments,
+                                            cl_mem scatter_map, const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        const char* call = "msmcl_scatter_prefilter_device";
+        require(context, call, "context");
+        if (!moment_map) throw invalid_argument{std::string(call) + ": moment_map is NULL"};
+        if (!scatter_map) throw invalid_argument{std::string(call) + ": scatter_map is NULL"};
+        const msmcl::ScatterScene cpp_scene = to_scatter_scene(scene, call);
+        const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+        const msmcl::DeviceTexture map{moment_map, msmcl::Format::moments128, map_width, map_height};
+        msmcl::scatter_prefilter(context->context, cpp_scene, map, scatter_map, moments, plumbing);
+    });
+}
+
+msmcl_status msmcl_scatter_prefilter_depth_device(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                                  const msmcl_device_depth* shadow_map, int moments,
+                                                  cl_mem scatter_map, const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        const char* call = "msmcl_scatter_prefilter_depth_device";
+        require(context, call, "context");
+        require(shadow_map, call, "shadow_map");
+        if (!shadow_map->memory) throw invalid_argument{std::string(call) + ": shadow_map->memory is NULL"};
+        if (!scatter_map) throw invalid_argument{std::string(call) + ": scatter_map is NULL"};
+        const msmcl::ScatterScene cpp_scene = to_scatter_scene(scene, call);
+        const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+        // The C++ API resamples depth buffers only.
+        if (!is_buffer(shadow_map->memory))
+            throw msmcl::input_error(std::string(call) + ": the shadow map must be a buffer, not an image");
+        msmcl::scatter_prefilter(context->context, cpp_scene, to_device_depth(*shadow_map, 1), scatter_map, moments,
+                                 plumbing);
+    });
+}
+
+msmcl_status msmcl_scatter_evaluate_device(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                           cl_mem scatter_map, int moments, cl_mem camera_depth, cl_mem radiance,
+                                           float beta, const msmcl_enqueue* enqueue) {
+    return guarded([&] {
+        const char* call = "msmcl_scatter_evaluate_device";
+        require(context, call, "context");
+        if (!scatter_map || !camera_depth || !radiance)
+            throw invalid_argument{std::string(call) + ": " +
+                                   (!scatter_map ? "scatter_map" : !camera_depth ? "camera_depth" : "radiance") +
+                                   " is NULL"};
+        const msmcl::ScatterScene cpp_scene = to_scatter_scene(scene, call);
+        const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
+        msmcl::scatter_evaluate(context->context, cpp_scene, scatter_map, moments, camera_depth, radiance, beta,
+                                plumbing);
     });
 }
 

@@ -1,6 +1,7 @@
 #include "cli/batch.hpp"
 #include "cli/batch_list.hpp"
 #include "cli/progress.hpp"
+#include "cli/texture_files.hpp"
 
 #include "io/atomic_file.hpp"
 #include "runtime/enum_names.hpp"
@@ -368,6 +369,85 @@ void run_one(const GlobalArguments& global, const MapJob& job) {
     stages.run("write", result.write);
 }
 
+/// The inputs of --array as one layered depth map: map i in array layer i, each map's
+/// translucent layers beside it. All maps must share width, height and samples (input_error
+/// naming the first that does not). A map with fewer translucent layers than another gets
+/// layers of opacity 0, which give the bits of no layer (include/msmcl/filter.hpp).
+io::TranslucentDepth stack_array_layers(const std::vector<std::string>& paths, DepthRange range) {
+    std::vector<io::TranslucentDepth> maps;
+    maps.reserve(paths.size());
+    std::size_t most_translucent = 0;
+    // "256x256, 4 samples per texel"
+    const auto shape = [](const DepthImage& d) {
+        return std::to_string(d.width) + "x" + std::to_string(d.height) + ", " + std::to_string(d.samples) +
+               (d.samples == 1 ? " sample" : " samples") + " per texel";
+    };
+    for (const std::string& path : paths) {
+        maps.push_back(io::read_translucent_depth_exr(path, range));
+        const DepthImage &first = maps.front().depth, &map = maps.back().depth;
+        if (map.width != first.width || map.height != first.height || map.samples != first.samples)
+            throw input_error(path + ": " + shape(map) + ", but the array's layer 0 (" + paths.front() + ") is " +
+                              shape(first) + ": every layer of a texture array has one size and sample count");
+        most_translucent = std::max(most_translucent, maps.back().layers.size());
+    }
+    // The depths layer after layer; translucent layer k of array layer a after those of a - 1.
+    io::TranslucentDepth stacked;
+    const DepthImage& first = maps.front().depth;
+    stacked.depth.width = first.width;
+    stacked.depth.height = first.height;
+    stacked.depth.samples = first.samples;
+    stacked.depth.layers = static_cast<int>(maps.size());
+    stacked.depth.depth.reserve(first.depth.size() * maps.size());
+    stacked.layers.resize(most_translucent);
+    for (io::TranslucentDepth& map : maps) {
+        stacked.depth.depth.insert(stacked.depth.depth.end(), map.depth.depth.begin(), map.depth.depth.end());
+        for (std::size_t k = 0; k < most_translucent; ++k) {
+            TranslucentLayer& slices = stacked.layers[k];
+            if (k < map.layers.size()) {
+                slices.depth.insert(slices.depth.end(), map.layers[k].depth.begin(), map.layers[k].depth.end());
+                slices.opacity.insert(slices.opacity.end(), map.layers[k].opacity.begin(), map.layers[k].opacity.end());
+            } else {
+                // No surface: the opaque depth (always valid) at opacity 0.
+                slices.depth.insert(slices.depth.end(), map.depth.depth.begin(), map.depth.depth.end());
+                slices.opacity.insert(slices.opacity.end(), map.depth.depth.size(), 0.0f);
+            }
+        }
+        map = {}; // the stacked copy is all that is kept
+    }
+    return stacked;
+}
+
+/// The array form: every input one layer of a texture array, filtered (or tabled) by one
+/// library call on the layered map and written as one KTX2 or DDS file; errors thrown.
+void run_array(const GlobalArguments& global, const BatchArguments& batch, const MapCommand& command) {
+    // Check the form and the output before touching any file.
+    if (batch.is_batch() || !batch.shard.empty() || !batch.json.empty())
+        throw usage_error("--array writes one file from the inputs IN...; -o, --list, --shard and --json are for a batch");
+    if (batch.paths.empty()) throw usage_error("msmcl " + command.name + " --array OUT needs inputs IN...");
+    if (batch.paths.size() > static_cast<std::size_t>(max_array_layers))
+        throw usage_error("--array takes at most " + std::to_string(max_array_layers) + " inputs, got " +
+                          std::to_string(batch.paths.size()));
+    if (output_container(command.out_container, batch.array) == Container::exr)
+        throw usage_error(batch.array +
+                          ": an OpenEXR texture holds one map; write a texture array as .ktx2 (layerCount) or .dds "
+                          "(arraySize)");
+    const MapJob job = command.make_job(BatchEntry{batch.paths.front(), batch.array, {}, true});
+
+    Stages stages(global.verbose, global.verbose ? 7 : 4);
+    // Read every input and stack them as the layers of one depth map.
+    const io::TranslucentDepth layered =
+        stages.run("read", [&] { return stack_array_layers(batch.paths, job.depth_range); });
+    Context context = stages.run("device setup", [&] { return Context(device_selections(global).front()); });
+    MapResult result;
+    try {
+        result = job.run(context, layered, &stages);
+    } catch (const input_error& e) {
+        // Library input errors do not know the files; name the array's.
+        throw input_error(batch.array + " (array of " + std::to_string(batch.paths.size()) + " inputs): " + e.what());
+    }
+    stages.run("write", result.write);
+}
+
 } // namespace
 
 void add_batch_options(CLI::App& command, BatchArguments& batch) {
@@ -385,6 +465,10 @@ void add_batch_options(CLI::App& command, BatchArguments& batch) {
     command.add_option("--json", batch.json, "batch: write a JSON summary (per file: status, error, bytes, ms) to FILE, "
                                              "or - for stdout")
         ->type_name("FILE");
+    command.add_option("--array", batch.array,
+                       "write the inputs IN... as the layers of one texture array (KTX2 or DDS), in one call; all "
+                       "inputs of one size and sample count")
+        ->type_name("FILE");
 }
 
 std::string entry_option(const BatchEntry& entry, const std::string& key, const std::string& fallback) {
@@ -393,6 +477,11 @@ std::string entry_option(const BatchEntry& entry, const std::string& key, const 
 }
 
 int run_map_command(const GlobalArguments& global, const BatchArguments& batch, const MapCommand& command) {
+    // The array form: the inputs are the layers of one file.
+    if (!batch.array.empty()) {
+        run_array(global, batch, command);
+        return 0;
+    }
     // The single-file form: exactly IN OUT, errors thrown as from every command.
     if (!batch.is_batch()) {
         if (!batch.shard.empty() || !batch.json.empty())

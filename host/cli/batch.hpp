@@ -29,10 +29,11 @@ struct BatchArguments {
     std::string list;               ///< --list FILE: inputs one per line, or a JSON manifest (a batch)
     std::string shard;              ///< --shard I/N: this run takes every N-th file from the I-th
     std::string json;               ///< --json FILE or -: a machine-readable summary
+    std::string array;              ///< --array FILE: every input a layer of one texture array in FILE
     bool is_batch() const { return !output_dir.empty() || !list.empty(); }
 };
 
-/// Adds the positionals and -o, --list, --shard, --json to `command`.
+/// Adds the positionals and -o, --list, --shard, --json, --array to `command`.
 void add_batch_options(CLI::App& command, BatchArguments& batch);
 
 /// One file of a batch as listed: its input, its output (empty: named after the input in
@@ -41,6 +42,7 @@ struct BatchEntry {
     std::string input;
     std::string output;
     std::map<std::string, std::string> options;
+    bool array = false; ///< --array: the output is a texture array (also of one layer)
 };
 
 /// The result of a map's device work, waiting to be written.
@@ -92,7 +94,8 @@ struct MapCommand {
     std::function<MapJob(const BatchEntry&)> make_job;
 };
 
-/// Runs the single-file form or a batch; returns the exit code (0, 2 if any input was bad,
+/// Runs the single-file form, a batch or the array form (--array: all inputs as the layers
+/// of one texture array, in one library call); returns the exit code (0, 2 if any input was bad,
 /// else 1 if anything failed at run time). Usage errors and a failure of the single-file
 /// form are thrown as from every other command.
 int run_map_command(const GlobalArguments& global, const BatchArguments& batch, const MapCommand& command);

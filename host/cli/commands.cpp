@@ -57,7 +57,11 @@ Texture filter_in_stages(Stages& stages, Context& context, const io::Translucent
     stages.run("program", [&] {
         const std::size_t built = context.programs_built();
         const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
-        DepthImage tiny{1, 1, depth.samples, std::vector<float>(static_cast<std::size_t>(depth.samples), mid)};
+        // Texture arrays run other programs: the tiny map has layers then too.
+        const int tiny_array_layers = depth.layers > 1 ? 2 : 1;
+        DepthImage tiny{1, 1, depth.samples,
+                        std::vector<float>(static_cast<std::size_t>(depth.samples * tiny_array_layers), mid),
+                        tiny_array_layers};
         std::vector<TranslucentLayer> tiny_layers(layer_count, TranslucentLayer{tiny.depth, tiny.depth});
         filter(context, tiny, tiny_layers, options);
         stages.note(build_note(context, built) + ", warm-up on a 1x1 map");
@@ -67,7 +71,9 @@ Texture filter_in_stages(Stages& stages, Context& context, const io::Translucent
     texture.format = options.format;
     texture.width = depth.width;
     texture.height = depth.height;
-    texture.words.resize(static_cast<std::size_t>(depth.width) * depth.height * texel_words(options.format));
+    texture.layers = depth.layers;
+    texture.words.resize(static_cast<std::size_t>(depth.width) * depth.height * depth.layers *
+                         texel_words(options.format));
     DeviceBuffer texture_buffer(context, texture.words.size() * sizeof(std::uint32_t), texture.words.data(),
                                 HostArray::result_in_place);
     stages.run("kernel", [&] {
@@ -170,8 +176,9 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
         [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
             return filter_in_stages(stages, context, layered, options);
         },
-        [options, container, output = entry.output](const Texture& texture, int samples) {
-            write_texture_file(output, container, texture, io::TextureInfo{options.sigma, samples, options.depth_range});
+        [options, container, output = entry.output, array = entry.array](const Texture& texture, int samples) {
+            write_texture_file(output, container, texture, io::TextureInfo{options.sigma, samples, options.depth_range},
+                               array);
         });
 }
 

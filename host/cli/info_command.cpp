@@ -230,7 +230,8 @@ json describe_gpu_file(const std::string& path, Container container) {
     const io::GpuImage image = container == Container::ktx2 ? io::read_ktx2(path) : io::read_dds(path);
     const io::GpuFormatInfo& gpu = io::gpu_format_info(image.format);
     json info = {{"container", container_name(container)}, {"width", image.width}, {"height", image.height},
-                 {"layers", image.layers}, {"gpu_format", gpu.name}, {"vk_format", gpu.vk_format},
+                 {"layers", image.layers}, {"texture_array", image.array}, {"gpu_format", gpu.name},
+                 {"vk_format", gpu.vk_format},
                  {"dxgi_format", gpu.dxgi_format}};
     json attributes = json::object();
     for (const auto& [key, value] : image.metadata) attributes[key] = value;
@@ -367,6 +368,8 @@ void print_text(std::ostream& out, const json& info) {
             const json& value = info[key];
             out << ", " << key << " " << (value.is_string() ? value.get<std::string>() : number_text(value));
         }
+    // A texture array (KTX2 layerCount >= 1, DDS arraySize > 1), also of one layer.
+    if (info.value("texture_array", false)) out << " (texture array)";
     out << '\n';
     if (info.contains("problem")) out << "  problem: " << info["problem"].get<std::string>() << '\n';
     if (info.contains("attributes"))

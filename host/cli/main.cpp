@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--kernel K]
     //              [--out-container C]
     // msmcl filter IN.exr... -o DIR | --list FILE [--shard I/N] [--json FILE|-] (same options)
+    // msmcl filter IN.exr... --array OUT.ktx2|OUT.dds (same options): one texture array
     msmcl::cli::FilterArguments filter;
     CLI::App* filter_command =
         app.add_subcommand("filter", "Depth map (EXR, Z or sample<N>.Z) -> filtered moment shadow map (EXR, KTX2 or DDS)");

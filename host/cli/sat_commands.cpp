@@ -35,7 +35,11 @@ SatTable build_sat_in_stages(Stages& stages, Context& context, const io::Translu
         // A table of a 1x1 map of the same kind builds (or finds) the programs.
         const std::size_t built = context.programs_built();
         const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
-        const DepthImage tiny{1, 1, depth.samples, std::vector<float>(static_cast<std::size_t>(depth.samples), mid)};
+        // Texture arrays run other programs: the tiny map has layers then too.
+        const int tiny_array_layers = depth.layers > 1 ? 2 : 1;
+        const DepthImage tiny{1, 1, depth.samples,
+                              std::vector<float>(static_cast<std::size_t>(depth.samples * tiny_array_layers), mid),
+                              tiny_array_layers};
         build_sat(context, tiny, std::vector<TranslucentLayer>(layered.layers.size(), {tiny.depth, tiny.depth}), options);
         const std::size_t now = context.programs_built() - built;
         stages.note(now == 0 ? "cache hit" : std::to_string(now) + " programs built");
@@ -46,7 +50,8 @@ SatTable build_sat_in_stages(Stages& stages, Context& context, const io::Translu
     table.height = depth.height;
     table.max_kernel_texels = options.max_kernel_texels;
     table.scale = sat_scale(options.max_kernel_texels);
-    table.words.resize(4 * static_cast<std::size_t>(depth.width) * depth.height);
+    table.layers = depth.layers;
+    table.words.resize(4 * static_cast<std::size_t>(depth.width) * depth.height * depth.layers);
     DeviceBuffer table_buffer(context, table.words.size() * sizeof(std::uint32_t), table.words.data(),
                               HostArray::result_in_place);
     stages.run("kernel", [&] {
@@ -199,8 +204,8 @@ MapJob sat_job(const SatArguments& arguments, const BatchEntry& entry) {
         [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
             return build_sat_in_stages(stages, context, layered, options);
         },
-        [options, container, output = entry.output](const SatTable& table, int samples) {
-            write_sat_file(output, container, table, io::SatInfo{options.depth_range, samples});
+        [options, container, output = entry.output, array = entry.array](const SatTable& table, int samples) {
+            write_sat_file(output, container, table, io::SatInfo{options.depth_range, samples}, array);
         });
 }
 

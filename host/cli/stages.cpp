@@ -87,7 +87,7 @@ void DeviceBuffer::read(Context& context, void* data) const {
     if (status != CL_SUCCESS) throw opencl_error(status, "clEnqueueUnmapMemObject");
 }
 
-DeviceDepth DeviceLayeredDepth::depth_view() const { return {depth->get(), width, height, samples}; }
+DeviceDepth DeviceLayeredDepth::depth_view() const { return {depth->get(), width, height, samples, array_layers}; }
 
 DeviceLayers DeviceLayeredDepth::layers_view() const {
     if (layer_count == 0) return {};
@@ -96,16 +96,22 @@ DeviceLayers DeviceLayeredDepth::layers_view() const {
 
 DeviceLayeredDepth upload_layered_depth(Stages& stages, Context& context, const io::TranslucentDepth& layered) {
     const DepthImage& depth = layered.depth;
-    // The layers one after another, as the device calls take them.
+    // The layers one after another, as the device calls take them; for a texture array, the
+    // translucent layers of array layer 0, then those of array layer 1, ... (DeviceLayers).
     std::vector<float> layer_depth, layer_opacity;
-    for (const TranslucentLayer& layer : layered.layers) {
-        layer_depth.insert(layer_depth.end(), layer.depth.begin(), layer.depth.end());
-        layer_opacity.insert(layer_opacity.end(), layer.opacity.begin(), layer.opacity.end());
-    }
+    const std::size_t slice = depth.depth.size() / static_cast<std::size_t>(std::max(depth.layers, 1));
+    for (int a = 0; a < depth.layers; ++a)
+        for (const TranslucentLayer& layer : layered.layers) {
+            const auto from = static_cast<std::ptrdiff_t>(slice * static_cast<std::size_t>(a));
+            const auto to = from + static_cast<std::ptrdiff_t>(slice);
+            layer_depth.insert(layer_depth.end(), layer.depth.begin() + from, layer.depth.begin() + to);
+            layer_opacity.insert(layer_opacity.end(), layer.opacity.begin() + from, layer.opacity.begin() + to);
+        }
     DeviceLayeredDepth device;
     device.width = depth.width;
     device.height = depth.height;
     device.samples = depth.samples;
+    device.array_layers = depth.layers;
     device.layer_count = static_cast<int>(layered.layers.size());
     stages.run("upload", [&] {
         device.depth = std::make_unique<DeviceBuffer>(context, depth.depth.size() * sizeof(float), depth.depth.data(),

@@ -97,6 +97,7 @@ struct DeviceLayeredDepth {
     DeviceLayers layers_view() const;
 
     int width = 0, height = 0, samples = 0, layer_count = 0;
+    int array_layers = 1; ///< the layers of a texture array (DepthImage::layers)
 };
 
 /// The "upload" stage of filter and sat: `layered` into device buffers (noting the bytes);

@@ -162,15 +162,27 @@ io::TextureFile read_texture_file(const std::string& path, std::optional<Format>
     return file;
 }
 
+namespace {
+
+/// EXR files hold one 2D texture.
+void require_one_map_for_exr(const std::string& path, Container container, int layers, bool array) {
+    if (container == Container::exr && (array || layers != 1))
+        throw usage_error(path + ": an OpenEXR texture holds one map; write a texture array as .ktx2 or .dds");
+}
+
+} // namespace
+
 void write_texture_file(const std::string& path, Container container, const Texture& texture,
-                        const io::TextureInfo& info) {
+                        const io::TextureInfo& info, bool array) {
+    require_one_map_for_exr(path, container, texture.layers, array);
     if (container == Container::exr) {
         io::write_texture_exr(path, texture, info);
         return;
     }
-    const io::GpuImage image = io::gpu_image_of(texture, {{"msmcl:sigma", float_text(info.sigma)},
-                                                          {"msmcl:samples", std::to_string(info.samples)},
-                                                          {"msmcl:depthRange", depth_range_name(info.depth_range)}});
+    io::GpuImage image = io::gpu_image_of(texture, {{"msmcl:sigma", float_text(info.sigma)},
+                                                    {"msmcl:samples", std::to_string(info.samples)},
+                                                    {"msmcl:depthRange", depth_range_name(info.depth_range)}});
+    image.array = image.array || array;
     if (container == Container::ktx2) io::write_ktx2(path, image);
     else io::write_dds(path, image);
 }
@@ -216,12 +228,15 @@ io::SatFile read_sat_file(const std::string& path, std::optional<std::uint32_t> 
     return file;
 }
 
-void write_sat_file(const std::string& path, Container container, const SatTable& table, const io::SatInfo& info) {
+void write_sat_file(const std::string& path, Container container, const SatTable& table, const io::SatInfo& info,
+                    bool array) {
+    require_one_map_for_exr(path, container, table.layers, array);
     if (container == Container::exr) {
         io::write_sat_exr(path, table, info);
         return;
     }
     io::GpuImage image = io::gpu_image_of(table);
+    image.array = image.array || array;
     image.metadata.emplace_back("msmcl:samples", std::to_string(info.samples));
     image.metadata.emplace_back("msmcl:depthRange", depth_range_name(info.depth_range));
     if (container == Container::ktx2) io::write_ktx2(path, image);

@@ -44,13 +44,17 @@ Container sniff_container(const std::string& path);
 /// against what the file records; required for DDS files of msm64/nlq64 texels.
 io::TextureFile read_texture_file(const std::string& path, std::optional<Format> format);
 /// Writes a filtered map with its record (KTX2 keeps it as key/value data, DDS drops it).
+/// `array`: a texture array even of one layer (KTX2 layerCount 1); a texture of several
+/// layers is always one. EXR holds one 2D map: an array there is a usage_error.
 void write_texture_file(const std::string& path, Container container, const Texture& texture,
-                        const io::TextureInfo& info);
+                        const io::TextureInfo& info, bool array = false);
 
 /// A summed-area table from any container. `max_kernel`: what the user said
 /// (--max-kernel), checked against what the file records; required for DDS files.
 io::SatFile read_sat_file(const std::string& path, std::optional<std::uint32_t> max_kernel);
-void write_sat_file(const std::string& path, Container container, const SatTable& table, const io::SatInfo& info);
+/// Writes a table as write_texture_file writes a map (`array` likewise).
+void write_sat_file(const std::string& path, Container container, const SatTable& table, const io::SatInfo& info,
+                    bool array = false);
 
 /// A float as the shortest text that reads back to it.
 std::string float_text(float value);

@@ -1,11 +1,12 @@
 // Device data in and out (include/msmcl/interop.hpp): depth images staged into the
-// buffer layout of DeviceDepth, textures and tables copied into caller-owned images. Only
-// device-side commands, chained by events.
+// buffer layout of DeviceDepth, textures and tables copied into caller-owned images, table
+// images staged for soft shadows (sat.hpp). Only device-side commands, chained by events.
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/interop.hpp>
+#include <msmcl/sat.hpp>
 
 #include <string>
 #include <vector>
@@ -361,6 +362,50 @@ void build_sat(Context& context, const DeviceDepthImage& depth, cl_mem table, co
     if (!table) throw input_error("sat: the table buffer is null");
     sat_scale(options.max_kernel_texels);
     run_from_depth_image(context, depth, table, kSatTexelBytes, false, enqueue, sat_operation(context, options));
+}
+
+void soft_shade(Context& context, const DeviceSatImage& table, cl_mem receivers_uvz, std::size_t count,
+                cl_mem intensity, const SoftShadowOptions& options, const Enqueue& enqueue) {
+    // What the buffer call refuses, refused before the copy is enqueued.
+    if (table.width <= 0 || table.height <= 0)
+        throw input_error("soft: the table is empty (" + std::to_string(table.width) + "x" +
+                          std::to_string(table.height) + ")");
+    soft_shadow_limits(table.max_kernel_texels, options);
+    if (!receivers_uvz || !intensity) throw input_error("soft: null cl_mem argument");
+    detail::ContextImpl& impl = context.impl();
+    const ImageShape shape = describe_image(table.image, impl.context(), "soft", "table image");
+    const cl_image_format wanted = sat_image_format();
+    if (shape.type != CL_MEM_OBJECT_IMAGE2D)
+        throw input_error("soft: the table image is a 2D image array, expected a 2D image");
+    if (shape.format.image_channel_order != wanted.image_channel_order ||
+        shape.format.image_channel_data_type != wanted.image_channel_data_type)
+        throw input_error("soft: the table image has format " + format_text(shape.format) + ", expected " +
+                          format_text(wanted));
+    if (shape.width < static_cast<std::size_t>(table.width) || shape.height < static_cast<std::size_t>(table.height))
+        throw input_error("soft: the table image is " + size_text(shape.width, shape.height) + ", smaller than the " +
+                          size_text(table.width, table.height) + " table");
+    // The table's texels into a staging buffer after the caller's events.
+    const cl::CommandQueue queue = impl.queue_for(enqueue);
+    const cl::Buffer staged = device_only_buffer(
+        impl, static_cast<std::size_t>(table.width) * table.height * kSatTexelBytes, "staged table");
+    const std::vector<cl_event> raw_waits = raw_events(detail::wait_list(enqueue));
+    const cl::array<cl::size_type, 3> origin{0, 0, 0};
+    const cl::array<cl::size_type, 3> region{static_cast<std::size_t>(table.width),
+                                             static_cast<std::size_t>(table.height), 1};
+    cl_event copied = nullptr;
+    detail::check(clEnqueueCopyImageToBuffer(queue(), table.image, staged(), origin.data(), region.data(), 0,
+                                             static_cast<cl_uint>(raw_waits.size()),
+                                             raw_waits.empty() ? nullptr : raw_waits.data(), &copied),
+                  "clEnqueueCopyImageToBuffer(table)");
+    const cl::Event copied_event(copied);
+    // Then the buffer call, completing as the caller asked; `staged` lives until it is done.
+    Enqueue after_copy;
+    after_copy.queue = queue();
+    after_copy.wait_for = {copied_event()};
+    after_copy.done = enqueue.done;
+    after_copy.blocking = enqueue.blocking;
+    soft_shade(context, DeviceSat{staged(), table.width, table.height, table.max_kernel_texels}, receivers_uvz, count,
+               intensity, options, after_copy);
 }
 
 } // namespace msmcl

@@ -364,6 +364,13 @@ MSMCL_C_API msmcl_status msmcl_soft_shade(msmcl_context* context, const uint32_t
                                           uint32_t max_kernel_texels, const float* u, const float* v, const float* z,
                                           size_t count, const msmcl_soft_options* options, float* intensity);
 
+/* Device version: `table` a buffer or image as msmcl_build_sat_device writes it for N =
+ * max_kernel_texels, the rest as msmcl_shade_device. `options` and `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_soft_shade_device(msmcl_context* context, cl_mem table, int width, int height,
+                                                 uint32_t max_kernel_texels, cl_mem receivers_uvz, size_t count,
+                                                 cl_mem intensity, const msmcl_soft_options* options,
+                                                 const msmcl_enqueue* enqueue);
+
 /* ---- Texture arrays: `layers` maps of one size in one call (the cascades of a cascaded
  * shadow map, the maps of several lights; docs/formats.md, "Texture arrays"). Every
  * buffer holds layer after layer, each laid out as for one map; the result equals
@@ -392,6 +399,138 @@ MSMCL_C_API msmcl_status msmcl_build_sat_array(msmcl_context* context, const flo
 MSMCL_C_API msmcl_status msmcl_build_sat_array_device(msmcl_context* context, const msmcl_device_depth* depth,
                                                       int layers, cl_mem table, const msmcl_sat_options* options,
                                                       const msmcl_enqueue* enqueue);
+/* msmcl_filter_array under translucent layers (as msmcl_filter_layered), each layer's `depth`
+ * and `opacity` laid out as `depth`, all array layers. `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_filter_array_layered(msmcl_context* context, const float* depth, int width,
+                                                    int height, int samples, int layers,
+                                                    const msmcl_translucent_layer* translucent,
+                                                    size_t layer_count, const msmcl_filter_options* options,
+                                                    void* texture, size_t texture_bytes);
+/* Device version, buffers only: translucent layer k of array layer a at a * count + k in the
+ * layer buffers. `translucent` NULL or count 0 is msmcl_filter_array_device. */
+MSMCL_C_API msmcl_status msmcl_filter_array_layered_device(msmcl_context* context, const msmcl_device_depth* depth,
+                                                           int layers, const msmcl_device_layers* translucent,
+                                                           cl_mem texture, const msmcl_filter_options* options,
+                                                           const msmcl_enqueue* enqueue);
+/* msmcl_build_sat_array with translucent layers, laid out as for msmcl_filter_array_layered. */
+MSMCL_C_API msmcl_status msmcl_build_sat_array_layered(msmcl_context* context, const float* depth, int width,
+                                                       int height, int samples, int layers,
+                                                       const msmcl_translucent_layer* translucent,
+                                                       size_t layer_count, const msmcl_sat_options* options,
+                                                       uint32_t* table, size_t table_words);
+/* Device version: buffers, laid out as for msmcl_filter_array_layered_device. */
+MSMCL_C_API msmcl_status msmcl_build_sat_array_layered_device(msmcl_context* context,
+                                                              const msmcl_device_depth* depth, int layers,
+                                                              const msmcl_device_layers* translucent, cl_mem table,
+                                                              const msmcl_sat_options* options,
+                                                              const msmcl_enqueue* enqueue);
+
+/* ---- Prefiltered single scattering (include/msmcl/scatter.hpp; docs/math.md): a
+ * directional light with an orthographic shadow map in a homogeneous medium, the
+ * in-scattered radiance per camera pixel. Near and far fields are named *_plane (the
+ * plain names are macros in some Windows headers). */
+
+/* Convention of the camera's depth buffer (ScatterCamera::depth). */
+typedef enum msmcl_camera_depth {
+    MSMCL_CAMERA_DEPTH_ZERO_ONE = 0,      /* perspective depth in [0,1] (D3D, Vulkan) */
+    MSMCL_CAMERA_DEPTH_MINUS_ONE_ONE = 1, /* perspective depth in [-1,1] (OpenGL) */
+    MSMCL_CAMERA_DEPTH_LINEAR = 2         /* eye depth along forward, world units, in [near, far] */
+} msmcl_camera_depth;
+
+/* How the prefilter splits a rectified row over work-items (ScatterKernel); same bits. */
+typedef enum msmcl_scatter_kernel {
+    MSMCL_SCATTER_KERNEL_AUTOMATIC = 0,
+    MSMCL_SCATTER_KERNEL_ROWS_GPU = 1,
+    MSMCL_SCATTER_KERNEL_ROWS_CPU = 2
+} msmcl_scatter_kernel;
+
+/* The light and its orthographic shadow map (ScatterLight: axes, texel and depth mapping). */
+typedef struct msmcl_scatter_light {
+    double direction[3];           /* the direction the light travels; default (0, -1, 0) */
+    double up[3];                  /* hint for the map's up axis; default (0, 0, -1) */
+    double center[3];              /* world point at the map's centre; default (0, 0, 0) */
+    double width, height;          /* world extent of the map across u and v; default 1, 1 */
+    double near_plane, far_plane;  /* depth range along direction from center; default 0, 1 */
+    msmcl_depth_range depth_range; /* of the shadow map; default zero_one */
+} msmcl_scatter_light;
+
+/* A pinhole camera (ScatterCamera: pixel rays, row 0 at the top). */
+typedef struct msmcl_scatter_camera {
+    double position[3];            /* default (0, 0, 0) */
+    double forward[3];             /* default (0, 0, -1) */
+    double up[3];                  /* hint, not parallel to forward; default (0, 1, 0) */
+    double vertical_fov_degrees;   /* default 60 */
+    double near_plane, far_plane;  /* default 0.1, 100 */
+    int width, height;             /* pixels of the camera depth and the radiance; default 128 x 96 */
+    msmcl_camera_depth depth;      /* default MSMCL_CAMERA_DEPTH_ZERO_ONE */
+} msmcl_scatter_camera;
+
+/* A homogeneous medium (ScatterMedium). */
+typedef struct msmcl_scatter_medium {
+    double extinction; /* sigma_t per world unit, > 0; default 0.1 */
+    double phase_g;    /* Henyey-Greenstein asymmetry in (-1, 1); default 0 */
+    double irradiance; /* E of the light, >= 0; default 1 */
+} msmcl_scatter_medium;
+
+typedef struct msmcl_scatter_scene {
+    msmcl_scatter_light light;
+    msmcl_scatter_camera camera;
+    msmcl_scatter_medium medium;
+    int rectified_width;  /* texels along r; default 256 */
+    int rectified_height; /* texels along phi; default 256 */
+    double guard_band;    /* extra share of the inclination range on each side, in [0, 1]; default 0.05 */
+} msmcl_scatter_scene;
+
+/* Defaults: the C++ defaults of ScatterScene. */
+MSMCL_C_API void msmcl_scatter_scene_init(msmcl_scatter_scene* scene);
+
+typedef struct msmcl_scatter_options {
+    int moments;                       /* 4 or 6; default 6 */
+    int filtered;                      /* nonzero: resample a filtered moment map; 0: one depth sample; default 1 */
+    float filter_sigma;                /* Gaussian sigma (texels) of that moments128 map; default 1 */
+    float beta;                        /* upper-bound weight in [0, 1]; negative = adaptive; default -1 */
+    msmcl_scatter_kernel kernel;       /* default MSMCL_SCATTER_KERNEL_AUTOMATIC */
+    msmcl_filter_kernel filter_kernel; /* of the moments128 map; default MSMCL_FILTER_KERNEL_AUTOMATIC */
+} msmcl_scatter_options;
+
+MSMCL_C_API void msmcl_scatter_options_init(msmcl_scatter_options* options);
+/* Bytes of a prefiltered map, 8 * rectified_width * rectified_height (0 for NULL or an empty size). */
+MSMCL_C_API size_t msmcl_scatter_map_bytes(const msmcl_scatter_scene* scene);
+
+/* Host shadow map (as a host depth map) and camera depth (camera.width * camera.height floats)
+ * in, as many radiances out; all validated. `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_scatter(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                       const float* shadow_depth, int width, int height, int samples,
+                                       const float* camera_depth, const msmcl_scatter_options* options,
+                                       float* radiance);
+/* Its first half: the prefiltered map (layout of ScatterMap::words) into `map` of at least
+ * msmcl_scatter_map_bytes(scene) bytes. `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_scatter_prefilter(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                                 const float* shadow_depth, int width, int height, int samples,
+                                                 const msmcl_scatter_options* options, void* map, size_t map_bytes);
+/* Its second half: radiances from a map msmcl_scatter_prefilter wrote for this scene and
+ * options.moments. `options` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_scatter_evaluate(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                                const void* map, size_t map_bytes, const float* camera_depth,
+                                                const msmcl_scatter_options* options, float* radiance);
+
+/* Filtered prefilter on the device: `moment_map` a moments128 buffer (msmcl_filter_device, depth
+ * range the light's), `scatter_map` msmcl_scatter_map_bytes(scene). `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_scatter_prefilter_device(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                                        cl_mem moment_map, int map_width, int map_height,
+                                                        int moments, cl_mem scatter_map,
+                                                        const msmcl_enqueue* enqueue);
+/* Unfiltered (sample 0 of the nearest texel): `shadow_map->memory` a buffer (an image is
+ * MSMCL_ERROR_INPUT). `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_scatter_prefilter_depth_device(msmcl_context* context,
+                                                              const msmcl_scatter_scene* scene,
+                                                              const msmcl_device_depth* shadow_map, int moments,
+                                                              cl_mem scatter_map, const msmcl_enqueue* enqueue);
+/* Evaluation on the device: `camera_depth` and `radiance` camera.width * camera.height floats
+ * (not validated), `beta` as in msmcl_scatter_options. `enqueue` may be NULL. */
+MSMCL_C_API msmcl_status msmcl_scatter_evaluate_device(msmcl_context* context, const msmcl_scatter_scene* scene,
+                                                       cl_mem scatter_map, int moments, cl_mem camera_depth,
+                                                       cl_mem radiance, float beta, const msmcl_enqueue* enqueue);
 
 #ifdef __cplusplus
 } /* extern "C" */

@@ -150,6 +150,11 @@ std::vector<float> soft_shade(Context& context, const SatTable& table, const Rec
 /// then all z); `intensity` receives count floats.
 void soft_shade(Context& context, const DeviceSat& table, cl_mem receivers_uvz, std::size_t count,
                 cl_mem intensity, const SoftShadowOptions& options, const Enqueue& enqueue = {});
+/// The same from a table image: one device copy of the table into a staging buffer, then
+/// the buffer call. Throws input_error for a wrong object, format or size before anything
+/// is enqueued.
+void soft_shade(Context& context, const DeviceSatImage& table, cl_mem receivers_uvz, std::size_t count,
+                cl_mem intensity, const SoftShadowOptions& options, const Enqueue& enqueue = {});
 
 /// The same soft shadow of one receiver computed on the host (float32, the code of
 /// kernels/msm_sat.clh), for tools and tests without a device.

@@ -180,4 +180,13 @@ struct DeviceSat {
     std::uint32_t max_kernel_texels = 0; ///< N the table was built for
 };
 
+/// A table in a 2D image of CL_RGBA / CL_UNSIGNED_INT32 (interop.hpp, sat_image_format()):
+/// its top-left width x height texels, as build_sat_to_image writes them.
+struct DeviceSatImage {
+    cl_mem image = nullptr;
+    int width = 0;
+    int height = 0;
+    std::uint32_t max_kernel_texels = 0; ///< N the table was built for
+};
+
 } // namespace msmcl

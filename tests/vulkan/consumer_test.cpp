@@ -34,6 +34,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -356,6 +357,83 @@ INSTANTIATE_TEST_SUITE_P(Maps, VulkanShade,
                                          ShadeCase{"random", "nlq64"}, ShadeCase{"random", "nlq32"}),
                          shade_case_name);
 
+// ---- Texture arrays: `msmcl filter A B --array arr.ktx2` shaded layer by layer through a
+// sampler2DArray (Texture2DArray in HLSL) against the 2D shaders on `msmcl filter A a.ktx2`.
+// Same texels, same functions (tests/shaders_test.cpp: the array lookups equal the 2D ones of
+// the layer bit for bit on the CPU), so the tolerances are those of the Vulkan device's
+// rounding above: kDeviceRounding (largest) for nlq64/nlq32, and for the fast 4MSM of
+// moments128/msm64 kDeviceRounding as rms and kFastPathRounding as the largest difference.
+// Measured on lavapipe: GLSL array against GLSL 2D 0 for every format and lookup; HLSL
+// array against the GLSL 2D map at most 2.5e-6 (nlq32; the two languages compile apart).
+class VulkanShadeArray : public testing::TestWithParam<const char*> {};
+
+TEST_P(VulkanShadeArray, EveryLayerAgreesWithThe2DMapOfItsInput) {
+    REQUIRE_VULKAN_DEVICE();
+    const Scratch scratch;
+    const std::string format = GetParam();
+    const bool linear = format == "moments128" || format == "msm64";
+    const std::string data = std::string(MSMCL_SOURCE_DIR) + "/data/";
+    const std::vector<std::string> inputs = {data + "railing_256x256_4x.exr", data + "wuson_256x256_4x.exr"};
+    const std::string receivers = data + "railing_view_160x120.exr";
+    // One array of both maps, and each map alone.
+    const std::string array = scratch / "array.ktx2";
+    run_ok(cli() + " filter " + quoted(inputs[0]) + " " + quoted(inputs[1]) + " --array " + quoted(array) + " --format " +
+           format);
+    std::vector<std::string> singles;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        singles.push_back(scratch / ("map" + std::to_string(i) + ".ktx2"));
+        run_ok(cli() + " filter " + quoted(inputs[i]) + " " + quoted(std::as_const(singles).back()) + " --format " + format);
+    }
+    if (HasFatalFailure()) return;
+    ASSERT_EQ(msmcl::io::read_ktx2(array).layers, 2);
+
+    std::vector<std::string> options = {" --lookup nearest", " --lookup bilinear", " --lookup dither --frame 5"};
+    if (linear) options.push_back(" --lookup hardware");
+    if (format == "moments128") options.push_back(" --lookup bilinear --accurate");
+    for (const std::string& option : options) {
+        // The 2D shader on each map alone.
+        std::vector<std::vector<float>> expected;
+        for (std::size_t i = 0; i < singles.size(); ++i) {
+            const std::string out = scratch / ("single" + std::to_string(i) + ".exr");
+            run_ok(vulkan(false) + " shade " + quoted(std::as_const(singles)[i]) + " " + quoted(receivers) + " " + quoted(out) + option);
+            if (HasFatalFailure()) return;
+            expected.push_back(read_y(out));
+        }
+        for (bool hlsl : {false, true}) {
+            // Every layer in one call: channels layer<i>.Y.
+            const std::string out = scratch / "layers.exr";
+            run_ok(vulkan(hlsl) + " shade " + quoted(array) + " " + quoted(receivers) + " " + quoted(out) + option);
+            if (HasFatalFailure()) return;
+            const msmcl::io::ExrImage shaded = msmcl::io::read_exr(out);
+            for (std::size_t i = 0; i < singles.size(); ++i) {
+                const std::string what = format + (hlsl ? " hlsl" : " glsl") + option + ", layer " + std::to_string(i);
+                const msmcl::io::ExrChannel* layer = shaded.find_channel("layer" + std::to_string(i) + ".Y");
+                ASSERT_NE(layer, nullptr) << what;
+                ASSERT_EQ(layer->values.size(), expected[i].size()) << what;
+                const Difference d = difference(expected[i], layer->values);
+                print(what + " vs 2D", d);
+                if (linear) {
+                    EXPECT_LE(d.rms, kDeviceRounding) << what;
+                    EXPECT_LE(d.largest, kFastPathRounding) << what;
+                } else {
+                    EXPECT_LE(d.largest, kDeviceRounding) << what;
+                }
+            }
+        }
+    }
+    // One chosen layer: channel Y, the same values as in the all-layers file (same run, same bits).
+    const std::string one = scratch / "one.exr", all = scratch / "all.exr";
+    run_ok(vulkan(false) + " shade " + quoted(array) + " " + quoted(receivers) + " " + quoted(one) + " --layer 1");
+    run_ok(vulkan(false) + " shade " + quoted(array) + " " + quoted(receivers) + " " + quoted(all) + " --layer all");
+    if (HasFatalFailure()) return;
+    const msmcl::io::ExrChannel* layer1 = msmcl::io::read_exr(all).find_channel("layer1.Y");
+    ASSERT_NE(layer1, nullptr);
+    EXPECT_TRUE(read_y(one) == layer1->values);
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, VulkanShadeArray, testing::Values("moments128", "msm64", "nlq64", "nlq32"),
+                         [](const testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
 // ---- Soft shadows from the R32G32B32A32_UINT summed-area table.
 //
 // kSoftRounding: the same float32 operations as msmcl's sat_soft_shade kernel (texelFetch of
@@ -520,6 +598,17 @@ TEST(VulkanConsumer, RejectsATextureOfTheWrongKindWithExitCode2) {
     EXPECT_EQ(run(vulkan(false) + " shade " + quoted(missing) + " " + quoted(receivers) + " " + quoted(out) + " 2> /dev/null"),
               2);
     EXPECT_FALSE(fs::exists(out));
+    // --layer: only for texture arrays, and only one of their layers.
+    const std::string depth = std::string(MSMCL_SOURCE_DIR) + "/data/railing_256x256_4x.exr";
+    const std::string map = scratch / "map.ktx2", array = scratch / "array.ktx2";
+    run_ok(cli() + " filter " + quoted(depth) + " " + quoted(map) + " --format nlq32");
+    run_ok(cli() + " filter " + quoted(depth) + " " + quoted(depth) + " --array " + quoted(array) + " --format nlq32");
+    for (const std::string& bad : {quoted(map) + " " + quoted(receivers) + " " + quoted(out) + " --layer 0",
+                                   quoted(array) + " " + quoted(receivers) + " " + quoted(out) + " --layer 2",
+                                   quoted(array) + " " + quoted(receivers) + " " + quoted(out) + " --layer -1"}) {
+        EXPECT_EQ(run(vulkan(false) + " shade " + bad + " 2> /dev/null"), 2) << bad;
+        EXPECT_FALSE(fs::exists(out)) << bad;
+    }
 }
 
 } // namespace

@@ -5,13 +5,23 @@
 // Lookups: 0 nearest, 1 bilinear, 2 dithered (blue noise, RG8UI), all through texelFetch
 // (msm_lookup_*), and 3 hardware bilinear: one textureLod through the linear sampler
 // (moments128 and msm64 only: the README allows filtering them).
+// MSM_ARRAY=1: the map is a texture array (sampler2DArray, usampler2DArray) and the
+// receivers are shaded from its layer `params.layer` (msm_lookup_*_array).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "msm.glsl"
 
+#ifndef MSM_ARRAY
+#define MSM_ARRAY 0
+#endif
+
 layout(local_size_x = 64) in;
 
-#if MSM_FORMAT == 3
+#if MSM_ARRAY && MSM_FORMAT == 3
+layout(binding = 0) uniform usampler2DArray shadow_map; // nearest sampler (texelFetch only)
+#elif MSM_ARRAY
+layout(binding = 0) uniform sampler2DArray shadow_map;  // linear (moments128, msm64) or nearest (nlq64)
+#elif MSM_FORMAT == 3
 layout(binding = 0) uniform usampler2D shadow_map; // nearest sampler (texelFetch only)
 #else
 layout(binding = 0) uniform sampler2D shadow_map;  // linear (moments128, msm64) or nearest (nlq64)
@@ -39,7 +49,17 @@ layout(push_constant) uniform Params {
     uint noise_offset_x;
     uint noise_offset_y;
     uint accurate;       // moments128: the float-float path (msm_lookup_moments128_accurate)
+    int layer;           // MSM_ARRAY: the array layer shaded
 } params;
+
+// The map's lookups, on the 2D map or on layer params.layer of the array (the same math).
+#if MSM_ARRAY
+#define MSM_LOOKUP(name) name##_array(shadow_map, params.layer,
+#define MSM_FILTERED_UV(uv) vec3(uv, float(params.layer))
+#else
+#define MSM_LOOKUP(name) name(shadow_map,
+#define MSM_FILTERED_UV(uv) uv
+#endif
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -57,25 +77,25 @@ void main() {
 #if MSM_FORMAT == 0
     if (params.lookup == 3) {
         vec2 uv = vec2(r.u / float(params.width), r.v / float(params.height));
-        shadow[i] = msm_shadow_moments128_fast(msm_decode_moments128(textureLod(shadow_map, uv, 0.0f)), zf);
+        shadow[i] = msm_shadow_moments128_fast(msm_decode_moments128(textureLod(shadow_map, MSM_FILTERED_UV(uv), 0.0f)), zf);
         return;
     }
     if (params.accurate != 0u) {
-        shadow[i] = msm_lookup_moments128_accurate(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup,
-                                                   noise);
+        shadow[i] = MSM_LOOKUP(msm_lookup_moments128_accurate) params.width, params.height, r.u, r.v, zf, params.lookup,
+                                                               noise);
         return;
     }
-    shadow[i] = msm_lookup_moments128(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_moments128) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #elif MSM_FORMAT == 1
     if (params.lookup == 3) {
         vec2 uv = vec2(r.u / float(params.width), r.v / float(params.height));
-        shadow[i] = msm_shadow_msm64_decoded_fast(msm_decode_msm64(textureLod(shadow_map, uv, 0.0f)), zf);
+        shadow[i] = msm_shadow_msm64_decoded_fast(msm_decode_msm64(textureLod(shadow_map, MSM_FILTERED_UV(uv), 0.0f)), zf);
         return;
     }
-    shadow[i] = msm_lookup_msm64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_msm64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #elif MSM_FORMAT == 2
-    shadow[i] = msm_lookup_nlq64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_nlq64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #else
-    shadow[i] = msm_lookup_nlq32(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_nlq32) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #endif
 }

@@ -1,9 +1,18 @@
 // The HLSL route of shade.comp: the same work through shaders/msm.hlsl, compiled by
 // glslang's HLSL front end, as a D3D engine's shader would sample the textures
 // (Texture2D + SamplerState; SampleLevel for the hardware-filtered lookup 3).
+// MSM_ARRAY=1: a Texture2DArray, shaded from its layer `params.layer`.
 #include "msm.hlsl"
 
-#if MSM_FORMAT == 3
+#ifndef MSM_ARRAY
+#define MSM_ARRAY 0
+#endif
+
+#if MSM_ARRAY && MSM_FORMAT == 3
+[[vk::binding(0)]] Texture2DArray<uint4> shadow_map;
+#elif MSM_ARRAY
+[[vk::binding(0)]] Texture2DArray<float4> shadow_map;
+#elif MSM_FORMAT == 3
 [[vk::binding(0)]] Texture2D<uint4> shadow_map;
 #else
 [[vk::binding(0)]] Texture2D<float4> shadow_map;
@@ -32,8 +41,18 @@ struct Params {
     uint noise_offset_x;
     uint noise_offset_y;
     uint accurate;
+    int layer; // MSM_ARRAY: the array layer shaded
 };
 [[vk::push_constant]] ConstantBuffer<Params> params;
+
+// The map's lookups, on the 2D map or on layer params.layer of the array (the same math).
+#if MSM_ARRAY
+#define MSM_LOOKUP(name) name##_array(shadow_map, params.layer,
+#define MSM_FILTERED_UV(uv) float3(uv, float(params.layer))
+#else
+#define MSM_LOOKUP(name) name(shadow_map,
+#define MSM_FILTERED_UV(uv) uv
+#endif
 
 [numthreads(64, 1, 1)]
 void main(uint3 id : SV_DispatchThreadID) {
@@ -52,25 +71,27 @@ void main(uint3 id : SV_DispatchThreadID) {
 #if MSM_FORMAT == 0
     if (params.lookup == 3) {
         float2 uv = float2(r.u / float(params.width), r.v / float(params.height));
-        shadow[i] = msm_shadow_moments128_fast(msm_decode_moments128(shadow_map.SampleLevel(map_sampler, uv, 0)), zf);
+        shadow[i] = msm_shadow_moments128_fast(
+            msm_decode_moments128(shadow_map.SampleLevel(map_sampler, MSM_FILTERED_UV(uv), 0)), zf);
         return;
     }
     if (params.accurate != 0u) {
-        shadow[i] = msm_lookup_moments128_accurate(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup,
-                                                   noise);
+        shadow[i] = MSM_LOOKUP(msm_lookup_moments128_accurate) params.width, params.height, r.u, r.v, zf, params.lookup,
+                                                               noise);
         return;
     }
-    shadow[i] = msm_lookup_moments128(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_moments128) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #elif MSM_FORMAT == 1
     if (params.lookup == 3) {
         float2 uv = float2(r.u / float(params.width), r.v / float(params.height));
-        shadow[i] = msm_shadow_msm64_decoded_fast(msm_decode_msm64(shadow_map.SampleLevel(map_sampler, uv, 0)), zf);
+        shadow[i] =
+            msm_shadow_msm64_decoded_fast(msm_decode_msm64(shadow_map.SampleLevel(map_sampler, MSM_FILTERED_UV(uv), 0)), zf);
         return;
     }
-    shadow[i] = msm_lookup_msm64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_msm64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #elif MSM_FORMAT == 2
-    shadow[i] = msm_lookup_nlq64(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_nlq64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #else
-    shadow[i] = msm_lookup_nlq32(shadow_map, params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+    shadow[i] = MSM_LOOKUP(msm_lookup_nlq32) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #endif
 }
