@@ -3,7 +3,8 @@
 // textures by one batch call (`msmcl filter IN... -o DIR --format msm64`: one Context, one
 // program build, reads and writes beside the device work) and by a loop of N single-file
 // calls (`msmcl filter IN OUT --format msm64`, a process each, as a shell loop runs them),
-// in turns within the same run; both outputs must be byte-identical. The row batch_loop
+// in turns within the same run; both outputs must be byte-identical. `--msmcl PATH` runs
+// another build's CLI (before/after comparisons). The row batch_loop
 // carries the ratio loop / batch (median over the paired repetitions); the CPU column of
 // both rows is the CPU time of the msmcl processes (user + system).
 // N: 24 maps at 512^2 and below, 8 at 1024^2, 4 at 2048^2; larger maps are skipped (a
@@ -54,7 +55,7 @@ double children_cpu_ms() {
 /// Runs msmcl with `arguments` (and --device when the bench has one); throws when it fails.
 void run_cli(const BenchEnv& env, std::vector<std::string> arguments) {
     if (!env.device.empty()) arguments.insert(arguments.begin(), {"--device", env.device});
-    arguments.insert(arguments.begin(), MSMCL_CLI_PATH);
+    arguments.insert(arguments.begin(), env.cli_path.empty() ? std::string(MSMCL_CLI_PATH) : env.cli_path);
     const int code = msmcl::testing::run_process(arguments, "/dev/null", "/dev/null");
     if (code != 0)
         throw error("msmcl-bench: batch case: msmcl " + arguments[1] + " ... exited with " + std::to_string(code));
@@ -76,7 +77,7 @@ struct ScratchFolder {
 
 std::vector<CaseResult> run_batch_rows(BenchEnv& env, const Workload& work) {
     const int maps = maps_for(work.size);
-    if (std::string(MSMCL_CLI_PATH).empty() || maps == 0 || work.format != Format::msm64 || work.samples != 4)
+    if ((std::string(MSMCL_CLI_PATH).empty() && env.cli_path.empty()) || maps == 0 || work.format != Format::msm64 || work.samples != 4)
         return {};
     const std::string format = format_name(work.format);
 

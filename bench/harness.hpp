@@ -51,6 +51,7 @@ struct BenchEnv {
     int warmups = 2;
     std::string device;                         ///< the --device spec (empty: default)
     std::string self_path;                      ///< this executable (cases that spawn probes)
+    std::string cli_path;                       ///< --msmcl: the CLI the batch case runs (empty: this build's)
     int build_reps = 0;                         ///< probe processes per build row, 0 = no build rows
     std::vector<std::uint32_t> three_pass_words; ///< reference output of the workload
 };

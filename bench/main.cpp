@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
     app.add_option("--case", only_cases, "run only these cases (repeatable; build = the build/first-call rows)");
     app.add_option("--build-reps", build_reps,
                    "probe processes per build row (default 2 for one configuration, 1 at 2048^2 S=4 in a sweep)");
+    std::string cli_path;
+    app.add_option("--msmcl", cli_path, "the msmcl executable the batch case runs (default: the one built with this bench)");
     std::string build_options;
     app.add_option("--build-options", build_options, "extra OpenCL build options for every program (experiments)");
     app.add_flag(kProbeFlag, probe)->group("");
@@ -161,6 +163,7 @@ int main(int argc, char** argv) {
         env.context = &context;
         env.device = device;
         env.self_path = executable_path(argv[0]);
+        env.cli_path = cli_path;
         const std::set<std::string> wanted(only_cases.begin(), only_cases.end());
         std::vector<BenchCase> cases;
         for (const BenchCase& c : registered_cases())

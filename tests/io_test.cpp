@@ -415,6 +415,33 @@ TEST_F(IoTest, DepthReadsEveryCompressionOfScanlineFiles) {
     }
 }
 
+TEST_F(IoTest, DepthBlocksThatDoNotDecodeAreNamed) {
+    // ZIPS and ZIP files of equal depths (each block deflates to a few bytes) whose last
+    // byte, the zlib checksum of the last block, is changed: refused with the file's name,
+    // whichever decoder meets it first.
+    for (const Imf::Compression compression : {Imf::ZIPS_COMPRESSION, Imf::ZIP_COMPRESSION}) {
+        const int width = 16, height = 20;
+        std::vector<float> depth(width * height, 0.5f);
+        {
+            const Imath::Box2i window(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1));
+            Imf::Header header(window, window, 1.0f, Imath::V2f(0, 0), 1.0f, Imf::INCREASING_Y, compression);
+            header.channels().insert("Z", Imf::Channel(Imf::FLOAT));
+            Imf::FrameBuffer frame;
+            frame.insert("Z", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(depth.data()), sizeof(float), sizeof(float) * width));
+            Imf::OutputFile output(path("depth.exr").c_str(), header);
+            output.setFrameBuffer(frame);
+            output.writePixels(height);
+        }
+        ASSERT_EQ(msmcl::io::read_depth_exr(path("depth.exr"), DepthRange::zero_one).depth, depth);
+        std::string bytes = bytes_of(path("depth.exr"));
+        bytes.back() = static_cast<char>(bytes.back() ^ 0x5A);
+        std::ofstream(path("bad.exr"), std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        expect_input_error([&] { msmcl::io::read_depth_exr(path("bad.exr"), DepthRange::zero_one); }, path("bad.exr"),
+                           "corrupt or truncated OpenEXR file (Error reading pixel data from image file. Data "
+                           "decompression (zlib) failed.)");
+    }
+}
+
 TEST_F(IoTest, DepthReaderNamesTheFileAndTheProblem) {
     const std::size_t n = 8 * 4;
     auto write = [&](const std::string& name, std::vector<ExrChannel> channels, int width = 8, int height = 4) {
