@@ -9,8 +9,7 @@
 //    --verbose a line per file.
 #include "io/atomic_file.hpp"
 #include "io/exr_io.hpp"
-#include "process.hpp"
-#include "seeded_test.hpp"
+#include "cli_folder_test.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -27,83 +26,15 @@
 #include <string>
 #include <vector>
 
-#ifndef MSMCL_CLI_PATH
-#define MSMCL_CLI_PATH ""
-#endif
-
 namespace {
 
 namespace fs = std::filesystem;
-using msmcl::DepthImage;
 using nlohmann::json;
 
-bool have_device() {
-    try {
-        return !msmcl::list_devices().empty();
-    } catch (const msmcl::error&) {
-        return false;
-    }
-}
+using msmcl::testing::CliRun;
 
-struct CliRun {
-    int exit_code = -1;
-    std::string out, err;
-};
-
-class BatchCli : public msmcl::testing::SeededTest {
+class BatchCli : public msmcl::testing::CliFolderTest {
 protected:
-    void SetUp() override {
-        SeededTest::SetUp();
-        if (std::string(MSMCL_CLI_PATH).empty()) GTEST_SKIP() << "built without the msmcl CLI";
-        if (!have_device()) GTEST_SKIP() << "no OpenCL device";
-        std::string pattern = (fs::temp_directory_path() / "msmcl-batch-test-XXXXXX").string();
-        ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-        root_ = pattern;
-    }
-    void TearDown() override {
-        if (!root_.empty()) fs::remove_all(root_);
-    }
-
-    std::string path(const std::string& name) const { return (root_ / name).string(); }
-
-    /// msmcl <arguments>, run in the test's folder (relative paths are the test's files).
-    /// `environment`: "NAME=VALUE" strings, or null for this process's environment.
-    CliRun cli(std::vector<std::string> arguments, const std::vector<std::string>* environment = nullptr) {
-        arguments.insert(arguments.begin(), MSMCL_CLI_PATH);
-        const std::string out = path("stdout.txt"), err = path("stderr.txt");
-        const fs::path here = fs::current_path();
-        fs::current_path(root_);
-        const int code = msmcl::testing::run_process(arguments, out, err, environment);
-        fs::current_path(here);
-        CliRun run;
-        run.exit_code = code;
-        run.out = msmcl::io::read_whole_file(out);
-        run.err = msmcl::io::read_whole_file(err);
-        return run;
-    }
-
-    /// A depth map in [0, 1] (a slope, a few boxes and noise) written as `name`.
-    std::string write_depth(const std::string& name, int width, int height, int samples) {
-        std::uniform_real_distribution<float> noise(-0.02f, 0.02f);
-        std::uniform_int_distribution<int> corner(0, std::max(width, height));
-        DepthImage depth;
-        depth.width = width;
-        depth.height = height;
-        depth.samples = samples;
-        const int bx = corner(rng_), by = corner(rng_);
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x)
-                for (int s = 0; s < samples; ++s) {
-                    const bool box = std::abs(x - bx) < width / 4 && std::abs(y - by) < height / 4;
-                    const float base = box ? 0.3f : 0.5f + 0.3f * float(x + y) / float(width + height);
-                    depth.depth.push_back(std::clamp(base + noise(rng_), 0.0f, 1.0f));
-                }
-        msmcl::io::write_depth_exr(path(name), depth);
-        return name;
-    }
-
-    std::string bytes(const std::string& name) const { return msmcl::io::read_whole_file(path(name)); }
-
     /// The names of the files in a folder of the test, sorted.
     std::vector<std::string> files_in(const std::string& folder) const {
         std::vector<std::string> names;
@@ -114,8 +45,6 @@ protected:
     }
 
     void write_text(const std::string& name, const std::string& text) { std::ofstream(path(name)) << text; }
-
-    fs::path root_;
 };
 
 std::string lines(const std::vector<std::string>& names) {
