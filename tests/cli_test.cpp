@@ -433,7 +433,8 @@ TEST_F(Cli, ShadeTakesTheDepthRangeFromTheMap) {
     msmcl::io::write_depth_exr(in("flat.exr"), flat);
     ASSERT_EQ(msmcl_cli({"filter", in("flat.exr"), out("map.exr"), "--format", "moments128", "--depth-range=-1,1"}).exit_code, 0);
     write_receivers(in("r.exr"), 2, 2, 8.0f, 8.0f, 0.3f);
-    ASSERT_EQ(msmcl_cli({"shade", out("map.exr"), in("r.exr"), out("y.exr")}).exit_code, 0);
+    const ProcessResult shaded = msmcl_cli({"shade", out("map.exr"), in("r.exr"), out("y.exr")});
+    ASSERT_EQ(shaded.exit_code, 0) << shaded.err;
     EXPECT_GT(msmcl::io::read_exr(out("y.exr")).channels[0].values[0], 0.9f);
     // An explicit --depth-range overrides it.
     ASSERT_EQ(msmcl_cli({"shade", out("map.exr"), in("r.exr"), out("y01.exr"), "--depth-range", "0,1"}).exit_code, 0);
