@@ -426,7 +426,8 @@ TEST_P(VulkanShadeArray, EveryLayerAgreesWithThe2DMapOfItsInput) {
     run_ok(vulkan(false) + " shade " + quoted(array) + " " + quoted(receivers) + " " + quoted(one) + " --layer 1");
     run_ok(vulkan(false) + " shade " + quoted(array) + " " + quoted(receivers) + " " + quoted(all) + " --layer all");
     if (HasFatalFailure()) return;
-    const msmcl::io::ExrChannel* layer1 = msmcl::io::read_exr(all).find_channel("layer1.Y");
+    const msmcl::io::ExrImage all_layers = msmcl::io::read_exr(all);
+    const msmcl::io::ExrChannel* layer1 = all_layers.find_channel("layer1.Y");
     ASSERT_NE(layer1, nullptr);
     EXPECT_TRUE(read_y(one) == layer1->values);
 }
