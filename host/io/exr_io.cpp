@@ -24,7 +24,6 @@
 #include <ImfTiledOutputFile.h>
 #include <ImfVersion.h>
 #include <Iex.h>
-#include <openexr.h>
 #include <half.h>
 
 #include <algorithm>
@@ -133,9 +132,6 @@ public:
     uint64_t tellg() override { return position_; }
     void seekg(uint64_t position) override { position_ = static_cast<std::size_t>(position); }
     void clear() override {}
-
-    /// The whole file, as loaded.
-    const std::string& bytes() const { return bytes_; }
 
 private:
     std::string bytes_;
@@ -276,106 +272,6 @@ void check_header_attributes(const std::string& path, const std::string& bytes) 
     }
 }
 
-/// OpenEXRCore reads through these from the file's bytes in memory.
-int64_t core_read(exr_const_context_t, void* user_data, void* buffer, uint64_t size, uint64_t offset,
-                  exr_stream_error_func_ptr_t) {
-    const std::string& bytes = *static_cast<const std::string*>(user_data);
-    if (offset >= bytes.size()) return 0;
-    const uint64_t count = std::min<uint64_t>(size, bytes.size() - offset);
-    std::memcpy(buffer, bytes.data() + offset, count);
-    return static_cast<int64_t>(count);
-}
-int64_t core_size(exr_const_context_t, void* user_data) {
-    return static_cast<int64_t>(static_cast<const std::string*>(user_data)->size());
-}
-/// Core's messages are dropped: on any failure the C++ library reads the file again and
-/// names the problem in its own words.
-void core_quiet(exr_const_context_t, exr_result_t, const char*) {}
-
-/// Reads the pixels of a single-part scanline file into the slices of `frame_buffer` with
-/// OpenEXRCore, the C library of the OpenEXR package: its decoders write each channel
-/// straight into a slice with the slice's strides, where the C++ library (3.1) converts
-/// value by value through calls of its own (in one thread it reads a 2048^2 four-sample
-/// depth map in less time than the C++ library on two). Takes full-resolution slices,
-/// FLOAT from FLOAT channels and UINT from UINT; returns false, the slices' contents
-/// unspecified, for anything else or on any error, for the C++ library to read (and
-/// report) instead. The values are the file's bits on both paths.
-bool read_scanlines_with_core(const std::string& path, const std::string& bytes, const Imf::Header& header,
-                              const Imf::FrameBuffer& frame_buffer) {
-    if (header.hasTileDescription()) return false;
-    for (auto it = frame_buffer.begin(); it != frame_buffer.end(); ++it) {
-        const Imf::Slice& slice = it.slice();
-        const Imf::Channel* channel = header.channels().findChannel(it.name());
-        if (!channel || slice.xSampling != 1 || slice.ySampling != 1 || slice.xTileCoords || slice.yTileCoords)
-            return false;
-        // 32-bit values copied as they are; HALF goes through the C++ library, since
-        // OpenEXRCore 3.1 widens four interleaved HALF channels into the wrong order.
-        if (!(slice.type == Imf::FLOAT && channel->type == Imf::FLOAT) && !(slice.type == Imf::UINT && channel->type == Imf::UINT))
-            return false;
-    }
-
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.user_data = const_cast<std::string*>(&bytes);
-    init.read_fn = core_read;
-    init.size_fn = core_size;
-    init.error_handler_fn = core_quiet;
-    exr_context_t context = nullptr;
-    if (exr_start_read(&context, path.c_str(), &init) != EXR_ERR_SUCCESS) {
-        exr_finish(&context);
-        return false;
-    }
-    const std::unique_ptr<exr_context_t, void (*)(exr_context_t*)> finish(&context, [](exr_context_t* c) { exr_finish(c); });
-    exr_attr_box2i_t window;
-    int32_t rows_per_chunk = 0, chunks = 0;
-    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
-    if (exr_get_storage(context, 0, &storage) != EXR_ERR_SUCCESS || storage != EXR_STORAGE_SCANLINE ||
-        exr_get_data_window(context, 0, &window) != EXR_ERR_SUCCESS ||
-        exr_get_scanlines_per_chunk(context, 0, &rows_per_chunk) != EXR_ERR_SUCCESS ||
-        exr_get_chunk_count(context, 0, &chunks) != EXR_ERR_SUCCESS || rows_per_chunk <= 0 || chunks <= 0)
-        return false;
-    const Imath::Box2i cpp_window = header.dataWindow();
-    if (window.min.x != cpp_window.min.x || window.min.y != cpp_window.min.y || window.max.x != cpp_window.max.x ||
-        window.max.y != cpp_window.max.y)
-        return false;
-
-    // One decoding pipeline for every chunk in turn, each channel decoded into its slice (or
-    // skipped where no slice asks for it). In this thread: OpenEXR's pool threads, given
-    // Core's work, made LeakSanitizer's exit-time scan crash in a spawned msmcl.
-    exr_decode_pipeline_t decoder{}; // EXR_DECODE_PIPELINE_INITIALIZER, without -Wextra warnings
-    bool started = false, failed = false;
-    for (int32_t chunk = 0; chunk < chunks && !failed; ++chunk) {
-        exr_chunk_info_t info;
-        const int y = window.min.y + chunk * rows_per_chunk;
-        if (exr_read_scanline_chunk_info(context, 0, y, &info) != EXR_ERR_SUCCESS ||
-            (started ? exr_decoding_update(context, 0, &info, &decoder)
-                     : exr_decoding_initialize(context, 0, &info, &decoder)) != EXR_ERR_SUCCESS) {
-            failed = true;
-            break;
-        }
-        for (int16_t c = 0; c < decoder.channel_count; ++c) {
-            exr_coding_channel_info_t& channel = decoder.channels[c];
-            const Imf::Slice* slice = frame_buffer.findSlice(channel.channel_name);
-            if (!slice) {
-                channel.decode_to_ptr = nullptr;
-                continue;
-            }
-            channel.decode_to_ptr = reinterpret_cast<uint8_t*>(
-                slice->base + static_cast<std::ptrdiff_t>(info.start_y) * static_cast<std::ptrdiff_t>(slice->yStride) +
-                static_cast<std::ptrdiff_t>(window.min.x) * static_cast<std::ptrdiff_t>(slice->xStride));
-            channel.user_pixel_stride = static_cast<int32_t>(slice->xStride);
-            channel.user_line_stride = static_cast<int32_t>(slice->yStride);
-            channel.user_bytes_per_element = 4;
-            channel.user_data_type = slice->type == Imf::UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
-        }
-        if ((!started && exr_decoding_choose_default_routines(context, 0, &decoder) != EXR_ERR_SUCCESS) ||
-            exr_decoding_run(context, 0, &decoder) != EXR_ERR_SUCCESS)
-            failed = true;
-        started = true;
-    }
-    exr_decoding_destroy(context, &decoder);
-    return !failed;
-}
-
 /// An opened EXR file whose header passed the checks every msmcl reader needs: a real
 /// OpenEXR file, not deep, a data window that is neither empty nor absurd, and no
 /// subsampled channels. OpenEXR's exceptions become input_error naming the file.
@@ -485,11 +381,8 @@ public:
         return names;
     }
 
-    /// Reads all rows into the slices of `frame_buffer`: through OpenEXRCore where it takes
-    /// the file and the slices (read_scanlines_with_core), else, or when it reports any
-    /// problem, through the C++ library, whose messages name what is wrong.
+    /// Reads all rows into the slices of `frame_buffer`.
     void read(const Imf::FrameBuffer& frame_buffer) {
-        if (read_scanlines_with_core(path_, stream_->bytes(), header(), frame_buffer)) return;
         try {
             file_->setFrameBuffer(frame_buffer);
             const Imath::Box2i window = data_window();
