@@ -1,0 +1,33 @@
+# Writes the C++ block that follows the `readme_example` marker in README.md to a file, so
+# that the test `readme_example` compiles and runs exactly what the README prints.
+#   cmake -DREADME=<README.md> -DOUTPUT=<file.cpp> -P extract_readme_example.cmake
+if(NOT README OR NOT OUTPUT)
+  message(FATAL_ERROR "extract_readme_example: pass -DREADME=<README.md> -DOUTPUT=<file.cpp>")
+endif()
+file(READ "${README}" text)
+# The marker comment, then the next fenced cpp block: everything up to its closing fence.
+string(FIND "${text}" "<!-- readme_example:" marker)
+if(marker EQUAL -1)
+  message(FATAL_ERROR "${README}: no <!-- readme_example: ... --> marker before the example")
+endif()
+string(SUBSTRING "${text}" ${marker} -1 text)
+string(FIND "${text}" "\n```cpp\n" open)
+if(open EQUAL -1)
+  message(FATAL_ERROR "${README}: no ```cpp block after the readme_example marker")
+endif()
+math(EXPR start "${open} + 8")
+string(SUBSTRING "${text}" ${start} -1 text)
+string(FIND "${text}" "\n```" close)
+if(close EQUAL -1)
+  message(FATAL_ERROR "${README}: the readme_example block is not closed")
+endif()
+math(EXPR length "${close} + 1")
+string(SUBSTRING "${text}" 0 ${length} program)
+# Rewrite the file only when the block changed, so that an unrelated README edit rebuilds nothing.
+if(EXISTS "${OUTPUT}")
+  file(READ "${OUTPUT}" old)
+  if(old STREQUAL program)
+    return()
+  endif()
+endif()
+file(WRITE "${OUTPUT}" "${program}")
