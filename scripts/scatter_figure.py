@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Figure of prefiltered single scattering against ray marching (README, Scattering quality).
+"""Figure of prefiltered single scattering against ray marching (docs/quality.md, Single scattering).
 
 Reads the main job's PNGs of one scene from OUT_DIR (<scene>_marched1024.png, the truth;
 <scene>_scatter6.png, <scene>_scatter4.png and their signed differences from the truth,

@@ -1,4 +1,4 @@
-// `msmcl filter|sat IN... --array OUT` (README, *Texture arrays*), run as processes:
+// `msmcl filter|sat IN... --array OUT` (docs/cli.md, *Texture arrays*), run as processes:
 //  - layer i of the array file holds the texel bytes of the single-file output of input i,
 //    byte for byte, with the same key/value record, in KTX2 (layerCount; DDS arraySize: the
 //    same texels),

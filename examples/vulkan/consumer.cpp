@@ -2,7 +2,7 @@
 //
 // It does what a renderer does with them: reads the KTX2 file (msmcl's reader, host/io;
 // Debian 12 packages no KTX2 library), creates a VkImage of exactly the file's format,
-// uploads it through a staging buffer, builds a sampler as the README prescribes for that
+// uploads it through a staging buffer, builds a sampler as docs/shaders.md prescribes for that
 // texture (linear where filtering is allowed, nearest where not, clamp to edge) and runs a
 // compute shader that includes shaders/msm.glsl (or, with --hlsl, shaders/msm.hlsl through
 // glslang's HLSL front end), both compiled to SPIR-V at build time. Results are EXR files
@@ -227,7 +227,7 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
     const std::optional<msmcl::Format> format = format_text ? msmcl::parse_format(*format_text) : std::nullopt;
     if (!format)
         throw msmcl::input_error(a.map + ": no msmcl:format of a shadow map (moments128, msm64, nlq64, nlq32)");
-    // Validates the file's vkFormat against the README's table for this texture.
+    // Validates the file's vkFormat against the table of docs/shaders.md for this texture.
     (void)msmcl::io::texture_of(image, *format, a.map);
     // A 2D map, or a texture array (a cascade set) shaded layer by layer through sampler2DArray.
     const bool array = image.array || image.layers != 1;
@@ -243,7 +243,7 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
         throw usage_error("--accurate is the float-float path of moments128 with the nearest, bilinear or dither lookup");
     const msmcl::io::ReceiverGrid grid = msmcl::io::read_receivers_exr(a.receivers);
 
-    // The texture in its documented format; linear filtering where the README allows it.
+    // The texture in its documented format; linear filtering where docs/shaders.md allows it.
     const VkFormat vk_format = vk_format_of(image);
     if (!vulkan.supports_sampling(vk_format, filterable))
         throw msmcl::error("the Vulkan device cannot sample " + std::string(msmcl::io::gpu_format_info(image.format).name) +

@@ -1,5 +1,5 @@
 // msmcl-vulkan (examples/vulkan) against msmcl's own commands: KTX2 textures uploaded into
-// VkImages of the README's formats and sampled by shaders/msm.glsl and shaders/msm.hlsl on
+// VkImages of the formats in docs/shaders.md and sampled by shaders/msm.glsl and shaders/msm.hlsl on
 // a Vulkan device (lavapipe in CI), compared with `msmcl shade`, `msmcl soft` and
 // `msmcl scatter` (OpenCL, PoCL in CI) on the same inputs (shade and soft read the very same
 // KTX2 files): every format, every lookup, both shading languages, the summed-area table

@@ -1,5 +1,5 @@
 // Single scattering from msmcl's prefiltered map, sampled with hardware bilinear filtering
-// (the README allows it: the decoding is affine), decoded and bounded by shaders/msm.glsl.
+// (docs/shaders.md allows it: the decoding is affine), decoded and bounded by shaders/msm.glsl.
 // MSM_SCATTER_MOMENTS (set at build time): 6, two A2B10G10R10_UNORM_PACK32 layers (odd and
 // even powers); 4, one R16G16B16A16_UNORM image in the msm64 layout. Per camera pixel
 // the host gives where its view ray ends in the map (texel units), the rectified depth,

@@ -4,7 +4,7 @@
 // 2 nlq64 (R16G16B16A16_UNORM), 3 nlq32 (R32_UINT).
 // Lookups: 0 nearest, 1 bilinear, 2 dithered (blue noise, RG8UI), all through texelFetch
 // (msm_lookup_*), and 3 hardware bilinear: one textureLod through the linear sampler
-// (moments128 and msm64 only: the README allows filtering them).
+// (moments128 and msm64 only: docs/shaders.md allows filtering them).
 // MSM_ARRAY=1: the map is a texture array (sampler2DArray, usampler2DArray) and the
 // receivers are shaded from its layer `params.layer` (msm_lookup_*_array).
 #version 450
