@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
-"""Every relative link of README.md and docs/**/*.md must lead somewhere.
+"""Every relative link of README.md and docs/**/*.md must lead somewhere, and the index
+docs/README.md must link every document of docs/.
 
 A link `[text](path)` or `![alt](path)` must name a file or folder that exists, relative to
 the document; `path#anchor` (or `#anchor` alone) must also name a heading of that Markdown
 file, as GitHub makes anchors of headings. Links inside code are not links. Web addresses
 are not checked (the test runs without a network).
 
-    check_links.py REPOSITORY_ROOT      exit 0, or 1 and one line per broken link
+    check_links.py REPOSITORY_ROOT      exit 0, or 1 and one line per problem
 """
 import re
 import sys
@@ -60,6 +61,7 @@ def anchors(path, cache={}):
 
 def broken_links(root):
     documents = [root / "README.md"] + sorted((root / "docs").rglob("*.md"))
+    indexed = set()
     for document in (d for d in documents if d.is_file()):
         for number, line in prose_lines(document):
             for target in LINK.findall(line):
@@ -68,10 +70,16 @@ def broken_links(root):
                 path_part, _, anchor = target.partition("#")
                 linked = (document.parent / path_part).resolve() if path_part else document
                 where = f"{document.relative_to(root)}:{number}"
+                if document == root / "docs" / "README.md":
+                    indexed.add(linked)
                 if not linked.exists():
                     yield f"{where}: {target}: no such file"
                 elif anchor and linked.suffix == ".md" and anchor not in anchors(linked):
                     yield f"{where}: {target}: no heading with the anchor #{anchor}"
+    # The index lists every document of docs/ (its own folder's pages, not subfolders).
+    for document in sorted((root / "docs").glob("*.md")):
+        if document.name != "README.md" and document.resolve() not in indexed:
+            yield f"docs/README.md: {document.name} is not in the index"
 
 
 def main():
@@ -80,9 +88,9 @@ def main():
     for line in broken:
         print(line)
     if broken:
-        print(f"{len(broken)} broken links in README.md and docs/")
+        print(f"{len(broken)} problems in the links of README.md and docs/")
         return 1
-    print("every relative link of README.md and docs/ resolves")
+    print("every relative link of README.md and docs/ resolves; docs/README.md indexes every document")
     return 0
 
 
