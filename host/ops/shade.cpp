@@ -4,6 +4,7 @@
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 #include "runtime/enum_names.hpp"
+#include "runtime/texture_kinds.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
@@ -55,9 +56,9 @@ namespace detail {
 
 // Variant per format, lookup and depth convention (dither: and where pixels come from).
 std::vector<std::string> shade_defines(Format format, Lookup lookup, DepthRange range, bool receiver_pixels) {
-    std::vector<std::string> defines = {"MSM_FORMAT=" + std::to_string(static_cast<int>(format)),
-                                        "MSM_LOOKUP=" + std::to_string(static_cast<int>(lookup)),
-                                        std::string("MSM_DEPTH_ZERO_ONE=") + (range == DepthRange::zero_one ? "1" : "0")};
+    std::vector<std::string> defines = texture_kind_defines(format);
+    defines.push_back("MSM_LOOKUP=" + std::to_string(static_cast<int>(lookup)));
+    defines.push_back(std::string("MSM_DEPTH_ZERO_ONE=") + (range == DepthRange::zero_one ? "1" : "0"));
     if (lookup == Lookup::dither) defines.push_back(std::string("MSM_RECEIVER_PIXELS=") + (receiver_pixels ? "1" : "0"));
     return defines;
 }
