@@ -497,6 +497,20 @@ TEST_F(Filter, OtherCpuTilingsGiveTheSameTexture) {
     EXPECT_EQ(standard.words, run(depth, Format::msm64, 2.4f, DepthRange::zero_one, FilterKernel::three_pass).words);
 }
 
+// A host call given a StageObserver reports its stages in order (what the CLI's --verbose
+// prints) and returns the texels it returns untimed.
+TEST_F(Filter, StageObserverSeesEachStageAndChangesNoTexel) {
+    const DepthImage depth = make_depth(70, 50, 4, DepthRange::zero_one, test_seed() + 37);
+    msmcl::FilterOptions options;
+    options.format = Format::nlq64;
+    std::vector<std::string> stages;
+    options.on_stage = [&](const msmcl::StageTime& time) { stages.push_back(time.stage); };
+    const Texture timed = msmcl::filter(*context_, depth, options);
+    EXPECT_EQ(stages, (std::vector<std::string>{"upload", "program", "kernel", "download"}));
+    options.on_stage = nullptr;
+    EXPECT_EQ(timed.words, msmcl::filter(*context_, depth, options).words);
+}
+
 // The host checks devices against the local memory the fused kernels allocate: for every
 // program variant of the covering set, the host's figure (kernels/fused_layout.clh,
 // fused_cpu_layout.clh) equals what the built kernel reports.

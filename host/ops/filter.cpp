@@ -440,6 +440,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                           choose_kernel(impl.info, options.kernel), static_cast<int>(layers.size()), depth.layers);
 
     // Upload (the translucent layers one after the other), run on the Context's queue, read back.
+    detail::StageTimer stages(impl, options.on_stage);
     Texture texture;
     texture.format = options.format;
     texture.width = depth.width;
@@ -459,12 +460,15 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                                                "clCreateBuffer(layer opacity)");
         layer_buffers.count = static_cast<int>(layers.size());
     }
+    stages.uploaded({&depth_buffer, &layer_buffers.depth, &layer_buffers.opacity});
     const std::size_t texture_bytes = texture.words.size() * sizeof(std::uint32_t);
     const cl::Buffer texture_buffer =
         detail::result_buffer(impl, texture.words.data(), texture_bytes, "clCreateBuffer(texture)");
     const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
                                           texture_buffer, options, layer_buffers, depth.layers);
+    stages.computed();
     detail::read_result(impl, texture_buffer, texture_bytes, texture.words.data(), done, "clEnqueueReadBuffer(texture)");
+    stages.downloaded(texture_buffer, texture_bytes);
     return texture;
 }
 

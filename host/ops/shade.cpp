@@ -148,6 +148,7 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
     if (count == 0) return {};
 
     // Upload the map and the receivers (planar u, v, z), shade, read back.
+    detail::StageTimer stages(impl, options.on_stage);
     const cl::Buffer map_buffer =
         detail::upload(impl, map.words.data(), map.words.size() * sizeof(std::uint32_t), "clCreateBuffer(map)");
     const cl::Buffer receiver_buffer = detail::upload_receivers(impl, receivers);
@@ -163,9 +164,13 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
         pixel_buffer = detail::upload(impl, xy.data(), xy.size() * sizeof(std::uint32_t), "clCreateBuffer(pixels)");
     }
 
+    stages.uploaded({&map_buffer, &receiver_buffer, &pixel_buffer});
     shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height}, receiver_buffer(), pixel_buffer(),
           count, result_buffer(), options, Enqueue{});
-    return detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
+    stages.computed();
+    std::vector<float> intensity = detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
+    stages.downloaded(result_buffer, count * sizeof(float));
+    return intensity;
 }
 
 } // namespace msmcl
