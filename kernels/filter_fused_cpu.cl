@@ -69,6 +69,7 @@ static inline float cpu_expf(float x) {
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
 #include "msm_array.clh"
+#include "fused_cpu_layout.clh"
 
 // Translucent layers (MSM_LAYERS > 0, docs/math.md): the resolve composites each sample's
 // surfaces (msm_translucent.clh) instead of taking b(z), and the kernels take the layers'
@@ -84,13 +85,10 @@ static inline float cpu_expf(float x) {
 #define CPU_LAYER_ARGS
 #endif
 
-#define CPU_GUARD 4
-#define CPU_IN_W (CPU_TILE_W + 2 * CPU_GUARD)
-// A row buffer plane: the input columns plus 8 floats that the last work-items' 9-tap
-// windows read (they compute garbage there that nothing stores).
-#define CPU_ROW_PLANE (CPU_IN_W + 2 * CPU_GUARD)
+#define CPU_IN_W CPU_IN_W_OF(CPU_TILE_W)
+#define CPU_ROW_PLANE CPU_ROW_PLANE_OF(CPU_TILE_W)
 
-#if MSM_FORMAT == 2 || MSM_FORMAT == 3
+#if MSM_FORMAT_SHIFTED
 #define CPU_SHIFTED 1
 #else
 #define CPU_SHIFTED 0
@@ -408,19 +406,16 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 // not worth fusing for the SLP vectorizer, and a contiguous, interleaved store once
 // vectorized across work-items). The nlq representation (y1, y2, v2, xi4) replaces the
 // moments in `filtered`.
-#if MSM_FORMAT == 0
+#if MSM_FORMAT == MSM_FORMAT_MOMENTS128
 #define CPU_QUANTIZE_PHASES 1
-#define CPU_WORDS 4
-#elif MSM_FORMAT == 1
+#elif MSM_FORMAT == MSM_FORMAT_MSM64
 #define CPU_QUANTIZE_PHASES 5
-#define CPU_WORDS 2
-#elif MSM_FORMAT == 2
+#elif MSM_FORMAT == MSM_FORMAT_NLQ64
 #define CPU_QUANTIZE_PHASES 6
-#define CPU_WORDS 2
-#else
+#elif MSM_FORMAT == MSM_FORMAT_NLQ32
 #define CPU_QUANTIZE_PHASES 4
-#define CPU_WORDS 1
 #endif
+#define CPU_WORDS MSM_TEXEL_WORDS
 
 // Flattened: every call inside is inlined (the compiler would keep the encoders, called
 // from several phases, out of line, and a call stops the vectorization).
@@ -436,7 +431,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     const int y0 = tile_y0();
     __local uint* word0 = words;
     __local uint* word1 = words + CPU_IN_W;
-#if MSM_FORMAT == 0
+#if MSM_FLOAT_TEXELS
     __local const uint* bits = (__local const uint*)filtered; // the moments' bits are the words
 #else
     __local const uint* bits = words;
@@ -445,7 +440,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
         // Store the texel: inside the tile and the image only.
         if (x < CPU_TILE_W && (!border || x0 + (int)x < width)) {
             __global uint* out = texture + ((size_t)(y0 + r - 2 * CPU_GUARD) * width + x0) * CPU_WORDS;
-#if MSM_FORMAT == 1 || MSM_FORMAT == 2
+#if MSM_TEXEL_WORDS == 2
             // Both words as one 64-bit store (a contiguous masked store once vectorized,
             // where two 32-bit stores became a scatter).
             const uint low = word0[x] | (words + 2 * CPU_IN_W)[x];
@@ -474,13 +469,13 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     --phase;
     msm_nlq n;
     MSM_LOAD4(n.y1, n.y2, n.v2, n.xi4, filtered, CPU_IN_W, x);
-#elif MSM_FORMAT == 1
+#elif MSM_FORMAT == MSM_FORMAT_MSM64
     msm_moments m;
     MSM_LOAD4(m.b1, m.b2, m.b3, m.b4, filtered, CPU_IN_W, x);
 #endif
-#if MSM_FORMAT == 1 || MSM_FORMAT == 2
+#if MSM_FORMAT == MSM_FORMAT_MSM64 || MSM_FORMAT == MSM_FORMAT_NLQ64
     // The two 32-bit words of the 64-bit formats, 16 bits a phase.
-#if MSM_FORMAT == 1
+#if MSM_FORMAT == MSM_FORMAT_MSM64
 #define CPU_ENCODE msm_encode_msm64(m)
 #else
 #define CPU_ENCODE msm_encode_nlq64(n)
@@ -490,7 +485,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     if (phase == 2) word1[x] = CPU_ENCODE.w1 & 0xffffu;
     if (phase == 3) (words + 3 * CPU_IN_W)[x] = CPU_ENCODE.w1 & 0xffff0000u;
 #undef CPU_ENCODE
-#elif MSM_FORMAT == 3
+#elif MSM_FORMAT == MSM_FORMAT_NLQ32
     if (phase == 0) word0[x] = msm_encode_nlq32(n) & 0x1fc0u;              // sqrt(v2)
     if (phase == 1) word0[x] |= msm_encode_nlq32(n) & 0xffffe03fu;         // folded depths, Psi4
 #endif
@@ -515,10 +510,18 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
 // 1.2, section 6.12.8); with the local fence alone the reads race with the increment.
 #define CPU_ROW_FENCE (CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE)
 
+// The texel words' planes; float texels are the filtered values' bits and need none (the
+// quantization never touches `words` then).
+#if MSM_FLOAT_TEXELS
+#define CPU_WORD_STORAGE __local uint* words = (__local uint*)filtered;
+#else
+#define CPU_WORD_STORAGE __local uint words[CPU_WORD_ENTRIES(CPU_TILE_W)];
+#endif
+
 // The shift's storage and its two phases (nlq formats); the other formats pass a pointer
 // nothing reads.
 #if CPU_SHIFTED
-#define CPU_SHIFT_STORAGE __local float shift_of[CPU_IN_W];
+#define CPU_SHIFT_STORAGE __local float shift_of[CPU_SHIFT_ENTRIES(CPU_TILE_W)];
 #define CPU_SHIFT_PHASES(BORDER)                                                                          \
     shift_partials(depth, width, height, BORDER, ix0, ix1, zero, *row, filtered);                        \
     barrier(CLK_LOCAL_MEM_FENCE);                                                                         \
@@ -552,10 +555,10 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
 // as many as the tile has inside the image. Per row: blur row r (and the vertical blur),
 // resolve row r + 1 | the quantization phases | advance the row.
 #define CPU_FILTER_TILE(BORDER)                                                                           \
-    __local float resolved[2 * 4 * CPU_ROW_PLANE];                                                        \
-    __local float ring[9 * 4 * CPU_IN_W];                                                                 \
-    __local float filtered[4 * CPU_IN_W];                                                                 \
-    __local uint words[4 * CPU_IN_W];                                                                     \
+    __local float resolved[CPU_RESOLVED_ENTRIES(CPU_TILE_W)];                                             \
+    __local float ring[CPU_RING_ENTRIES(CPU_TILE_W)];                                                     \
+    __local float filtered[CPU_FILTERED_ENTRIES(CPU_TILE_W)];                                             \
+    CPU_WORD_STORAGE                                                                                      \
     CPU_SHIFT_STORAGE                                                                                     \
     CPU_ARRAY_SLICES                                                                                      \
     __global int* row = progress + get_group_id(1) * get_num_groups(0) + get_group_id(0);               \

@@ -3,10 +3,10 @@
 // guard band of 4) into 32x24 filtered, quantized texels, all in local memory:
 // resolve -> horizontal 9-tap -> vertical 9-tap -> readout + quantize, one global write.
 // Layout and work-item mapping: fused_layout.clh (verified bank-conflict free offline by
-// tests/fused_layout_test.cpp). Local memory: 20592 bytes of moment planes, plus 128 bytes
-// for the block shift of the nlq formats (20720 in all).
-// Compile-time: MSM_SAMPLES (1, 2, 4, 8, 16), MSM_FORMAT (0 moments128, 1 msm64, 2 nlq64,
-// 3 nlq32; the order of msmcl::Format), MSM_DEPTH_ZERO_ONE (1 for depth in [0,1]),
+// tests/fused_layout_test.cpp). Local memory: FUSED_LOCAL_BYTES (moment planes, and the
+// block shift's results for the nlq formats).
+// Compile-time: MSM_SAMPLES (1, 2, 4, 8, 16), MSM_FORMAT and the format's row
+// (msm_formats.clh), MSM_DEPTH_ZERO_ONE (1 for depth in [0,1]),
 // MSM_LAYERS (translucent layers, 0 = opaque; two more arguments when > 0), MSM_ARRAY
 // (1: texture arrays, group z = array layer, msm_array.clh).
 // Taps: w0 (centre) .. w4, as gaussian_taps() gives them; sums run over i = -4..4 with fma
@@ -22,7 +22,7 @@
 #define MSM_LAYERS 0
 #endif
 
-#if MSM_FORMAT == 2 || MSM_FORMAT == 3
+#if MSM_FORMAT_SHIFTED
 // nlq formats: blur the moments of (z - c), c = the midrange of the depths of the block's
 // input texels short of the far plane (docs/math.md): no rendered texel lies more than half
 // the block's depth range from c.

@@ -1,8 +1,8 @@
 // shade: evaluates a filtered moment shadow map at receiver points (docs/math.md, Lookups).
-// Compile-time: MSM_FORMAT (0 moments128, 1 msm64, 2 nlq64, 3 nlq32; the order of
-// msmcl::Format), MSM_LOOKUP (0 nearest, 1 bilinear, 2 dither: kernel shade_dither),
-// MSM_DEPTH_ZERO_ONE (1 for [0,1]); for dither MSM_RECEIVER_PIXELS (1: a buffer of screen
-// pixels, 0: receivers are the pixels of a row-major image).
+// Compile-time: MSM_FORMAT and the format's row (msm_formats.clh), MSM_LOOKUP (0 nearest,
+// 1 bilinear, 2 dither: kernel shade_dither), MSM_DEPTH_ZERO_ONE (1 for [0,1]); for dither
+// MSM_RECEIVER_PIXELS (1: a buffer of screen pixels, 0: receivers are the pixels of a
+// row-major image).
 // The linear formats take the accurate (float-float) path of msm_shading.clh; the host twin
 // is msmcl::shade_receiver (host/shading/shading.cpp).
 #include "msm_shading.clh"
@@ -11,22 +11,14 @@
 #define MSM_LOOKUP_BILINEAR 1
 #define MSM_LOOKUP_DITHER 2
 
-#if MSM_FORMAT == 0
-#define MSM_TEXEL_WORDS 4
-#elif MSM_FORMAT == 1 || MSM_FORMAT == 2
-#define MSM_TEXEL_WORDS 2
-#else
-#define MSM_TEXEL_WORDS 1
-#endif
-
-#if MSM_FORMAT == 0
+#if MSM_FORMAT == MSM_FORMAT_MOMENTS128
 // Raw moments of a moments128 texel.
 static inline msm_moments raw_texel_moments(__global const uint* map, size_t texel) {
     __global const uint* t = map + texel * MSM_TEXEL_WORDS;
     msm_moments m = {as_float(t[0]), as_float(t[1]), as_float(t[2]), as_float(t[3])};
     return m;
 }
-#elif MSM_FORMAT == 1 || MSM_FORMAT == 2
+#elif MSM_TEXEL_WORDS == 2
 // The words of a 64-bit texel.
 static inline msm_word2 texel_word2(__global const uint* map, size_t texel) {
     __global const uint* t = map + texel * MSM_TEXEL_WORDS;
@@ -35,14 +27,14 @@ static inline msm_word2 texel_word2(__global const uint* map, size_t texel) {
 }
 #endif
 
-#if MSM_LOOKUP == MSM_LOOKUP_NEAREST || MSM_LOOKUP == MSM_LOOKUP_DITHER || MSM_FORMAT >= 2
+#if MSM_LOOKUP == MSM_LOOKUP_NEAREST || MSM_LOOKUP == MSM_LOOKUP_DITHER || !MSM_BLENDS_MOMENTS
 // Shadow intensity of one texel at internal depth zf, as the format's consumer does it.
 static inline float texel_shadow(__global const uint* map, size_t texel, float zf) {
-#if MSM_FORMAT == 0
+#if MSM_FORMAT == MSM_FORMAT_MOMENTS128
     return msm_shadow_moments128(raw_texel_moments(map, texel), zf);
-#elif MSM_FORMAT == 1
+#elif MSM_FORMAT == MSM_FORMAT_MSM64
     return msm_shadow_msm64(texel_word2(map, texel), zf);
-#elif MSM_FORMAT == 2
+#elif MSM_FORMAT == MSM_FORMAT_NLQ64
     return msm_shadow_nlq64(texel_word2(map, texel), zf);
 #else
     return msm_shadow_nlq32(map[texel], zf);
@@ -69,12 +61,12 @@ __kernel void shade(__global const uint* map, int width, int height,
     const msm_bilinear_taps taps = msm_bilinear_taps_at(u, v, width, height);
     const size_t t00 = (size_t)taps.y0 * width + taps.x0, t10 = (size_t)taps.y0 * width + taps.x1;
     const size_t t01 = (size_t)taps.y1 * width + taps.x0, t11 = (size_t)taps.y1 * width + taps.x1;
-#if MSM_FORMAT == 0
+#if MSM_FORMAT == MSM_FORMAT_MOMENTS128
     // Linear formats: blend the moments in float-float, then bias and reconstruct once.
     intensity[i] = msm_shadow_moments128_bilinear(raw_texel_moments(map, t00), raw_texel_moments(map, t10),
                                                   raw_texel_moments(map, t01), raw_texel_moments(map, t11),
                                                   taps.tx, taps.ty, zf);
-#elif MSM_FORMAT == 1
+#elif MSM_FORMAT == MSM_FORMAT_MSM64
     intensity[i] = msm_shadow_msm64_bilinear(texel_word2(map, t00), texel_word2(map, t10), texel_word2(map, t01),
                                              texel_word2(map, t11), taps.tx, taps.ty, zf);
 #else

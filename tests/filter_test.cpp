@@ -6,6 +6,8 @@
 // three-pass (bit for bit for moments128 and msm64, their per-block shift for nlq), the
 // choice of `automatic`, other CPU tilings.
 #include "filter_fixtures.hpp"
+#include "ops/kernel_variants.hpp"
+#include "runtime/context_impl.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -493,6 +495,37 @@ TEST_F(Filter, OtherCpuTilingsGiveTheSameTexture) {
         EXPECT_EQ(other.words, standard.words) << "tiling " << tiling;
     }
     EXPECT_EQ(standard.words, run(depth, Format::msm64, 2.4f, DepthRange::zero_one, FilterKernel::three_pass).words);
+}
+
+// A host call given a StageObserver reports its stages in order (what the CLI's --verbose
+// prints) and returns the texels it returns untimed.
+TEST_F(Filter, StageObserverSeesEachStageAndChangesNoTexel) {
+    const DepthImage depth = make_depth(70, 50, 4, DepthRange::zero_one, test_seed() + 37);
+    msmcl::FilterOptions options;
+    options.format = Format::nlq64;
+    std::vector<std::string> stages;
+    options.on_stage = [&](const msmcl::StageTime& time) { stages.push_back(time.stage); };
+    const Texture timed = msmcl::filter(*context_, depth, options);
+    EXPECT_EQ(stages, (std::vector<std::string>{"upload", "program", "kernel", "download"}));
+    options.on_stage = nullptr;
+    EXPECT_EQ(timed.words, msmcl::filter(*context_, depth, options).words);
+}
+
+// The host checks devices against the local memory the fused kernels allocate: for every
+// program variant of the covering set, the host's figure (kernels/fused_layout.clh,
+// fused_cpu_layout.clh) equals what the built kernel reports.
+TEST_F(Filter, HostLocalMemoryFigureIsTheKernels) {
+    std::size_t checked = 0;
+    for (const msmcl::detail::KernelVariant& variant : msmcl::detail::kernel_variants()) {
+        if (variant.local_bytes == 0) continue;
+        for (const msmcl::detail::KernelVariant::Kernel& kernel : variant.kernels) {
+            cl::Kernel& built = context_->impl().kernel(variant.file, variant.defines, kernel.name);
+            EXPECT_EQ(built.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(context_->impl().device), variant.local_bytes)
+                << kernel.name << " " << variant.note;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 0u);
 }
 
 } // namespace

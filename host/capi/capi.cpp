@@ -2,6 +2,8 @@
 // C++ call throws and turns it into a status code and a per-thread message.
 #include <msmcl/msmcl.h>
 
+#include "runtime/texture_kinds.hpp"
+
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -16,6 +18,7 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -89,13 +92,22 @@ long long enum_value(const Enum& value) {
     return static_cast<long long>(raw);
 }
 
+// The C values are the C++ ones.
+static_assert(MSMCL_FORMAT_MOMENTS128 == static_cast<int>(msmcl::Format::moments128) &&
+                  MSMCL_FORMAT_MSM64 == static_cast<int>(msmcl::Format::msm64) &&
+                  MSMCL_FORMAT_NLQ64 == static_cast<int>(msmcl::Format::nlq64) &&
+                  MSMCL_FORMAT_NLQ32 == static_cast<int>(msmcl::Format::nlq32),
+              "msmcl.h and formats.hpp disagree");
+
+// The format of a C value, if it is one of the format table's.
+std::optional<msmcl::Format> known_format(const msmcl_format& format) {
+    const long long value = enum_value(format);
+    if (value < 0 || static_cast<unsigned long long>(value) >= msmcl::detail::kMomentFormats) return std::nullopt;
+    return static_cast<msmcl::Format>(value);
+}
+
 msmcl::Format to_format(const msmcl_format& format, const char* call) {
-    switch (enum_value(format)) {
-    case MSMCL_FORMAT_MOMENTS128: return msmcl::Format::moments128;
-    case MSMCL_FORMAT_MSM64: return msmcl::Format::msm64;
-    case MSMCL_FORMAT_NLQ64: return msmcl::Format::nlq64;
-    case MSMCL_FORMAT_NLQ32: return msmcl::Format::nlq32;
-    }
+    if (const std::optional<msmcl::Format> known = known_format(format)) return *known;
     throw invalid_argument{std::string(call) + ": unknown format " + std::to_string(enum_value(format))};
 }
 
@@ -552,24 +564,14 @@ void msmcl_version(int* major, int* minor, int* patch) {
 }
 
 size_t msmcl_texel_bytes(msmcl_format format) {
-    switch (enum_value(format)) {
-    case MSMCL_FORMAT_MOMENTS128:
-    case MSMCL_FORMAT_MSM64:
-    case MSMCL_FORMAT_NLQ64:
-    case MSMCL_FORMAT_NLQ32: return msmcl::texel_bytes(static_cast<msmcl::Format>(enum_value(format)));
-    }
-    return 0;
+    const std::optional<msmcl::Format> known = known_format(format);
+    return known ? msmcl::texel_bytes(*known) : 0;
 }
 
 const char* msmcl_format_name(msmcl_format format) {
     // The value is looked at as an integer only (see enum_value).
-    switch (enum_value(format)) {
-    case MSMCL_FORMAT_MOMENTS128:
-    case MSMCL_FORMAT_MSM64:
-    case MSMCL_FORMAT_NLQ64:
-    case MSMCL_FORMAT_NLQ32: return msmcl::format_name(static_cast<msmcl::Format>(enum_value(format)));
-    }
-    return nullptr;
+    const std::optional<msmcl::Format> known = known_format(format);
+    return known ? msmcl::format_name(*known) : nullptr;
 }
 
 msmcl_status msmcl_parse_format(const char* name, msmcl_format* format) {

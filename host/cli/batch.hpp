@@ -63,21 +63,21 @@ struct MapJob {
     std::function<MapResult(Context&, const io::TranslucentDepth&, Stages*)> run;
 };
 
-/// The job of `entry` whose device work is `compute(context, layered)` (a library call),
-/// or `staged(stages, context, layered)` (the same split into --verbose stages), timed as
-/// the stage `stage` otherwise; `publish(result, samples)` writes its result (a Texture or
-/// SatTable: its words are what it holds).
-template <class Compute, class Staged, class Publish>
-MapJob map_job(const BatchEntry& entry, DepthRange range, const char* stage, Compute compute, Staged staged,
-               Publish publish) {
+/// The job of `entry` whose device work is `compute(context, layered, on_stage)` (a library
+/// call that reports its stages to `on_stage` for --verbose), timed as the stage `stage`
+/// otherwise; `publish(result, samples)` writes its result (a Texture or SatTable: its words
+/// are what it holds).
+template <class Compute, class Publish>
+MapJob map_job(const BatchEntry& entry, DepthRange range, const char* stage, Compute compute, Publish publish) {
     MapJob job;
     job.input = entry.input;
     job.output = entry.output;
     job.depth_range = range;
     job.run = [=](Context& context, const io::TranslucentDepth& layered, Stages* stages) -> MapResult {
-        auto result = !stages             ? compute(context, layered)
-                      : stages->verbose() ? staged(*stages, context, layered)
-                                          : stages->run(stage, [&] { return compute(context, layered); });
+        auto result = stages ? stages->run_call(stage, [&](const StageObserver& on_stage) {
+            return compute(context, layered, on_stage);
+        })
+                             : compute(context, layered, StageObserver{});
         const std::size_t bytes = result.words.size() * sizeof(result.words[0]);
         return {[result = std::move(result), publish, samples = layered.depth.samples] { publish(result, samples); },
                 bytes};

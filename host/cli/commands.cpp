@@ -39,98 +39,6 @@ std::uint32_t parse_frame(const std::string& text) {
 
 } // namespace
 
-namespace {
-
-/// "1 program built" / "cache hit": what the stage's calls cost in program builds.
-std::string build_note(const Context& context, std::size_t built_before) {
-    const std::size_t built = context.programs_built() - built_before;
-    return built == 0 ? "cache hit" : std::to_string(built) + (built == 1 ? " program built" : " programs built");
-}
-
-/// filter() split into the stages --verbose reports: the program (built or found in a
-/// cache, by a run on a 1x1 map of the same kind), the upload, the kernels, the download.
-/// Same texels as filter(context, depth, layers, options).
-Texture filter_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
-                         const FilterOptions& options) {
-    const DepthImage& depth = layered.depth;
-    const std::size_t layer_count = layered.layers.size();
-    stages.run("program", [&] {
-        const std::size_t built = context.programs_built();
-        const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
-        // Texture arrays run other programs: the tiny map has layers then too.
-        const int tiny_array_layers = depth.layers > 1 ? 2 : 1;
-        DepthImage tiny{1, 1, depth.samples,
-                        std::vector<float>(static_cast<std::size_t>(depth.samples * tiny_array_layers), mid),
-                        tiny_array_layers};
-        std::vector<TranslucentLayer> tiny_layers(layer_count, TranslucentLayer{tiny.depth, tiny.depth});
-        filter(context, tiny, tiny_layers, options);
-        stages.note(build_note(context, built) + ", warm-up on a 1x1 map");
-    });
-    const DeviceLayeredDepth device = upload_layered_depth(stages, context, layered);
-    Texture texture;
-    texture.format = options.format;
-    texture.width = depth.width;
-    texture.height = depth.height;
-    texture.layers = depth.layers;
-    texture.words.resize(static_cast<std::size_t>(depth.width) * depth.height * depth.layers *
-                         texel_words(options.format));
-    DeviceBuffer texture_buffer(context, texture.words.size() * sizeof(std::uint32_t), texture.words.data(),
-                                HostArray::result_in_place);
-    stages.run("kernel", [&] {
-        filter(context, device.depth_view(), device.layers_view(), texture_buffer.get(), options);
-        context.finish();
-    });
-    stages.run("download", [&] {
-        texture_buffer.read(context, texture.words.data());
-        stages.note(std::to_string(texture.words.size() * sizeof(std::uint32_t)) + " bytes" +
-                    (texture_buffer.in_place() ? " in place" : ""));
-    });
-    return texture;
-}
-
-/// shade() split into stages as filter_in_stages.
-std::vector<float> shade_in_stages(Stages& stages, Context& context, const Texture& map,
-                                   const io::ReceiverGrid& receivers, const ShadeOptions& options) {
-    stages.run("program", [&] {
-        const std::size_t built = context.programs_built();
-        Receivers one;
-        one.u = {0.5f};
-        one.v = {0.5f};
-        one.z = {options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f};
-        ReceiverPixels pixel;
-        if (!receivers.pixels.x.empty()) pixel = {{0u}, {0u}};
-        shade(context, map, one, pixel, options);
-        stages.note(build_note(context, built) + ", warm-up on one receiver");
-    });
-    const std::size_t count = receivers.points.size();
-    std::vector<float> uvz;
-    uvz.reserve(3 * count);
-    for (const std::vector<float>* plane : {&receivers.points.u, &receivers.points.v, &receivers.points.z})
-        uvz.insert(uvz.end(), plane->begin(), plane->end());
-    std::vector<std::uint32_t> pixels(receivers.pixels.x);
-    pixels.insert(pixels.end(), receivers.pixels.y.begin(), receivers.pixels.y.end());
-    std::unique_ptr<DeviceBuffer> map_buffer, uvz_buffer, pixel_buffer;
-    stages.run("upload", [&] {
-        map_buffer = std::make_unique<DeviceBuffer>(context, map.words.size() * sizeof(std::uint32_t), map.words.data());
-        uvz_buffer = std::make_unique<DeviceBuffer>(context, uvz.size() * sizeof(float), uvz.data());
-        if (!pixels.empty())
-            pixel_buffer = std::make_unique<DeviceBuffer>(context, pixels.size() * sizeof(std::uint32_t), pixels.data());
-        context.finish();
-    });
-    std::vector<float> intensity(count);
-    DeviceBuffer intensity_buffer(context, count * sizeof(float));
-    stages.run("kernel", [&] {
-        const DeviceTexture device_map{map_buffer->get(), map.format, map.width, map.height};
-        shade(context, device_map, uvz_buffer->get(), pixel_buffer ? pixel_buffer->get() : nullptr, count,
-              intensity_buffer.get(), options);
-        context.finish();
-    });
-    stages.run("download", [&] { intensity_buffer.read(context, intensity.data()); });
-    return intensity;
-}
-
-} // namespace
-
 DeviceSelection GlobalArguments::selection() const {
     DeviceSelection selection;
     selection.device = device;
@@ -170,11 +78,10 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     // no place for the record).
     return map_job(
         entry, range, "filter",
-        [options](Context& context, const io::TranslucentDepth& layered) {
-            return filter(context, layered.depth, layered.layers, options);
-        },
-        [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
-            return filter_in_stages(stages, context, layered, options);
+        [options](Context& context, const io::TranslucentDepth& layered, const StageObserver& on_stage) {
+            FilterOptions timed = options;
+            timed.on_stage = on_stage;
+            return filter(context, layered.depth, layered.layers, timed);
         },
         [options, container, output = entry.output, array = entry.array](const Texture& texture, int samples) {
             write_texture_file(output, container, texture, io::TextureInfo{options.sigma, samples, options.depth_range},
@@ -225,11 +132,10 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> intensity;
     try {
-        if (stages.verbose())
-            intensity = shade_in_stages(stages, context, map.texture, receivers, options);
-        else
-            intensity = stages.run(
-                "shade", [&] { return shade(context, map.texture, receivers.points, receivers.pixels, options); });
+        intensity = stages.run_call("shade", [&](const StageObserver& on_stage) {
+            options.on_stage = on_stage;
+            return shade(context, map.texture, receivers.points, receivers.pixels, options);
+        });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.receivers, e);
     }

@@ -272,8 +272,8 @@ json describe_gpu_file(const std::string& path, Container container) {
     }
     info["kind"] = "moment shadow map";
     std::optional<Format> format = recorded ? parse_format(*recorded) : std::nullopt;
-    if (!format && image.format == io::GpuFormat::r32g32b32a32_sfloat) format = Format::moments128;
-    if (!format && image.format == io::GpuFormat::r32_uint) format = Format::nlq32;
+    if (const std::vector<Format> candidates = detail::formats_with(image.format); !format && candidates.size() == 1)
+        format = candidates.front();
     if (!format) {
         // msm64 and nlq64 share the texel type: describe the raw 16-bit codes.
         info["format"] = "msm64 or nlq64";

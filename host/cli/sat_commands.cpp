@@ -25,81 +25,6 @@ namespace {
     throw input_error(path + ": " + e.what());
 }
 
-/// build_sat() split into the stages --verbose reports: the program (built or found by a
-/// table of a 1x1 map), the upload, the kernels, the download. Same words as
-/// build_sat(context, depth, layers, options).
-SatTable build_sat_in_stages(Stages& stages, Context& context, const io::TranslucentDepth& layered,
-                             const SatOptions& options) {
-    const DepthImage& depth = layered.depth;
-    stages.run("program", [&] {
-        // A table of a 1x1 map of the same kind builds (or finds) the programs.
-        const std::size_t built = context.programs_built();
-        const float mid = options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f;
-        // Texture arrays run other programs: the tiny map has layers then too.
-        const int tiny_array_layers = depth.layers > 1 ? 2 : 1;
-        const DepthImage tiny{1, 1, depth.samples,
-                              std::vector<float>(static_cast<std::size_t>(depth.samples * tiny_array_layers), mid),
-                              tiny_array_layers};
-        build_sat(context, tiny, std::vector<TranslucentLayer>(layered.layers.size(), {tiny.depth, tiny.depth}), options);
-        const std::size_t now = context.programs_built() - built;
-        stages.note(now == 0 ? "cache hit" : std::to_string(now) + " programs built");
-    });
-    const DeviceLayeredDepth device = upload_layered_depth(stages, context, layered);
-    SatTable table;
-    table.width = depth.width;
-    table.height = depth.height;
-    table.max_kernel_texels = options.max_kernel_texels;
-    table.scale = sat_scale(options.max_kernel_texels);
-    table.layers = depth.layers;
-    table.words.resize(4 * static_cast<std::size_t>(depth.width) * depth.height * depth.layers);
-    DeviceBuffer table_buffer(context, table.words.size() * sizeof(std::uint32_t), table.words.data(),
-                              HostArray::result_in_place);
-    stages.run("kernel", [&] {
-        build_sat(context, device.depth_view(), device.layers_view(), table_buffer.get(), options);
-        context.finish();
-    });
-    stages.run("download", [&] { table_buffer.read(context, table.words.data()); });
-    return table;
-}
-
-/// soft_shade() split into stages: the program (a warm-up on one receiver), the upload, the
-/// kernel, the download. Same intensities as soft_shade(context, table, receivers, options).
-std::vector<float> soft_shade_in_stages(Stages& stages, Context& context, const SatTable& table,
-                                        const Receivers& receivers, const SoftShadowOptions& options) {
-    stages.run("program", [&] {
-        const std::size_t built = context.programs_built();
-        Receivers one;
-        one.u = {0.5f};
-        one.v = {0.5f};
-        one.z = {options.depth_range == DepthRange::zero_one ? 0.5f : 0.0f};
-        soft_shade(context, table, one, options);
-        const std::size_t now = context.programs_built() - built;
-        stages.note((now == 0 ? std::string("cache hit") : std::to_string(now) + " programs built") +
-                    ", warm-up on one receiver");
-    });
-    const std::size_t count = receivers.size();
-    std::vector<float> uvz;
-    uvz.reserve(3 * count);
-    for (const std::vector<float>* plane : {&receivers.u, &receivers.v, &receivers.z})
-        uvz.insert(uvz.end(), plane->begin(), plane->end());
-    std::unique_ptr<DeviceBuffer> table_buffer, uvz_buffer;
-    stages.run("upload", [&] {
-        table_buffer =
-            std::make_unique<DeviceBuffer>(context, table.words.size() * sizeof(std::uint32_t), table.words.data());
-        uvz_buffer = std::make_unique<DeviceBuffer>(context, uvz.size() * sizeof(float), uvz.data());
-        context.finish();
-    });
-    std::vector<float> intensity(count);
-    DeviceBuffer intensity_buffer(context, count * sizeof(float));
-    stages.run("kernel", [&] {
-        const DeviceSat device_table{table_buffer->get(), table.width, table.height, table.max_kernel_texels};
-        soft_shade(context, device_table, uvz_buffer->get(), count, intensity_buffer.get(), options);
-        context.finish();
-    });
-    stages.run("download", [&] { intensity_buffer.read(context, intensity.data()); });
-    return intensity;
-}
-
 } // namespace
 
 void add_sat_commands(CLI::App& app, SatCommands& commands) {
@@ -198,11 +123,10 @@ MapJob sat_job(const SatArguments& arguments, const BatchEntry& entry) {
     // Build the table on the device, then publish it with what a reader needs to query it.
     return map_job(
         entry, options.depth_range, "table build",
-        [options](Context& context, const io::TranslucentDepth& layered) {
-            return build_sat(context, layered.depth, layered.layers, options);
-        },
-        [options](Stages& stages, Context& context, const io::TranslucentDepth& layered) {
-            return build_sat_in_stages(stages, context, layered, options);
+        [options](Context& context, const io::TranslucentDepth& layered, const StageObserver& on_stage) {
+            SatOptions timed = options;
+            timed.on_stage = on_stage;
+            return build_sat(context, layered.depth, layered.layers, timed);
         },
         [options, container, output = entry.output, array = entry.array](const SatTable& table, int samples) {
             write_sat_file(output, container, table, io::SatInfo{options.depth_range, samples}, array);
@@ -264,11 +188,10 @@ void run_soft(const GlobalArguments& global, const SoftArguments& arguments) {
     Context context = stages.run("device setup", [&] { return Context(global.selection()); });
     std::vector<float> intensity;
     try {
-        if (stages.verbose())
-            intensity = soft_shade_in_stages(stages, context, table.table, receivers.points, options);
-        else
-            intensity = stages.run("soft shadows",
-                                   [&] { return soft_shade(context, table.table, receivers.points, options); });
+        intensity = stages.run_call("soft shadows", [&](const StageObserver& on_stage) {
+            options.on_stage = on_stage;
+            return soft_shade(context, table.table, receivers.points, options);
+        });
     } catch (const input_error& e) {
         rethrow_with_file(arguments.receivers, e);
     }

@@ -57,17 +57,16 @@ void write_scatter_map_ktx2(const std::string& path, const ScatterMap& map) {
     io::GpuImage image;
     image.width = map.width;
     image.height = map.height;
+    const detail::TextureKind& kind = map.moments == 6 ? detail::kScatter6Kind : detail::kScatter4Kind;
+    image.format = kind.gpu_format;
     if (map.moments == 6) {
-        image.format = io::GpuFormat::a2b10g10r10_unorm_pack32;
         image.layers = 2;
         image.array = true;
-    } else {
-        image.format = io::GpuFormat::r16g16b16a16_unorm;
     }
     image.bytes.resize(map.words.size() * sizeof(std::uint32_t));
     for (std::size_t i = 0; i < map.words.size(); ++i)
         for (int b = 0; b < 4; ++b) image.bytes[4 * i + b] = static_cast<std::uint8_t>(map.words[i] >> (8 * b));
-    image.metadata = {{"msmcl:format", "scatter" + std::to_string(map.moments)},
+    image.metadata = {{"msmcl:format", kind.name},
                       {"msmcl:scatterMoments", std::to_string(map.moments)}};
     io::write_ktx2(path, image);
 }

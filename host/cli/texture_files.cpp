@@ -142,14 +142,16 @@ io::TextureFile read_texture_file(const std::string& path, std::optional<Format>
     if (const std::optional<std::string> name = image.find_metadata("msmcl:format")) {
         recorded = parse_format(*name);
         if (!recorded) fail(path, "key msmcl:format is '" + *name + "', not a moment shadow map format");
-    } else if (image.format == io::GpuFormat::r32g32b32a32_sfloat) {
-        recorded = Format::moments128;
-    } else if (image.format == io::GpuFormat::r32_uint) {
-        recorded = Format::nlq32;
-    } else if (image.format == io::GpuFormat::r16g16b16a16_unorm && !format) {
-        fail(path, std::string(container_name(container)) +
-                       " file of r16g16b16a16_unorm texels may be msm64 or nlq64: say which with --format msm64 or "
-                       "--format nlq64");
+    } else if (const std::vector<Format> candidates = detail::formats_with(image.format); candidates.size() == 1) {
+        recorded = candidates.front();
+    } else if (candidates.size() > 1 && !format) {
+        std::string names, options;
+        for (Format candidate : candidates) {
+            names += std::string(names.empty() ? "" : " or ") + format_name(candidate);
+            options += std::string(options.empty() ? "" : " or ") + "--format " + format_name(candidate);
+        }
+        fail(path, std::string(container_name(container)) + " file of " + io::gpu_format_info(image.format).name +
+                       " texels may be " + names + ": say which with " + options);
     }
     if (recorded && format && *recorded != *format)
         fail(path, std::string("holds a ") + format_name(*recorded) + " texture, --format says " + format_name(*format));

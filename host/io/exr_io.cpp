@@ -3,6 +3,7 @@
 #include "io/atomic_file.hpp"
 #include "io/image_limits.hpp"
 #include "ops/range_scan.hpp"
+#include "runtime/texture_kinds.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -539,19 +540,25 @@ bool is_supported_samples(int samples) {
     return samples == 1 || samples == 2 || samples == 4 || samples == 8 || samples == 16;
 }
 
-/// The channels of a texture format: names in texel order, one type.
+/// The channels of a texture format (its row of the format table): names in texel order,
+/// one type (FLOAT for float texels, else UINT holding the codes), the bits of each in the
+/// texel's words (32: a whole word; fewer: packed from bit 0 up, as the codes of msm64).
 struct TextureLayout {
     std::vector<std::string> channels;
     SampleType type;
+    std::uint32_t bits;
 };
 TextureLayout texture_layout(Format format) {
-    switch (format) {
-    case Format::moments128: return {{"R", "G", "B", "A"}, SampleType::float32};
-    case Format::msm64:
-    case Format::nlq64: return {{"R", "G", "B", "A"}, SampleType::uint32};
-    case Format::nlq32: return {{"R"}, SampleType::uint32};
-    }
-    return {{}, SampleType::uint32};
+    const detail::GpuFormatInfo& pixels = detail::gpu_format_info(detail::texture_kind(format));
+    TextureLayout layout{{}, pixels.kind == detail::ChannelKind::sfloat ? SampleType::float32 : SampleType::uint32,
+                         pixels.channel_bits[0]};
+    for (std::uint32_t c = 0; c < pixels.channels; ++c) layout.channels.push_back(std::string(1, "RGBA"[c]));
+    return layout;
+}
+
+// Channel c of a texel whose channels are `bits` (< 32) wide, packed from bit 0 of its first word up.
+std::uint32_t packed_channel(const std::uint32_t* words, std::size_t c, std::uint32_t bits) {
+    return (words[c * bits / 32] >> (c * bits % 32)) & ((1u << bits) - 1u);
 }
 
 
@@ -998,9 +1005,9 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
                         {"msmcl:samples", info.samples},
                         {"msmcl:depthRange", std::string(depth_range_name(info.depth_range))}};
 
-    // Encode straight from the texture's words into the file. moments128 (float bits) and
-    // nlq32 (one word) are channels OpenEXR reads in place with a texel stride; the 16-bit
-    // codes of msm64 and nlq64 are widened to 32-bit channels one band of rows at a time.
+    // Encode straight from the texture's words into the file. Whole-word channels (the float
+    // bits of moments128, the word of nlq32) are read in place with a texel stride; the
+    // 16-bit codes of msm64 and nlq64 are widened to 32-bit channels one band of rows at a time.
     const std::size_t texel_stride = words_per_texel * sizeof(std::uint32_t);
     const std::size_t row_texels = static_cast<std::size_t>(texture.width);
     AtomicFile file(path);
@@ -1008,7 +1015,7 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
     try {
         Imf::OutputFile output(stream, exr_header(image), openexr_threads());
         const Imf::PixelType type = to_pixel_type(layout.type);
-        if (texture.format == Format::moments128 || texture.format == Format::nlq32) {
+        if (layout.bits == 32) {
             Imf::FrameBuffer frame_buffer;
             // (OpenEXR only reads through a slice's base when it writes.)
             char* const texels_base = const_cast<char*>(reinterpret_cast<const char*>(texture.words.data()));
@@ -1019,21 +1026,22 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
             output.writePixels(texture.height);
         } else {
             // Bands of whole ZIP blocks (16 rows) of about 8 MiB of channel values.
-            const std::size_t row_bytes = 4 * sizeof(std::uint32_t) * row_texels;
+            const std::size_t channels = layout.channels.size();
+            const std::size_t row_bytes = channels * sizeof(std::uint32_t) * row_texels;
             const int band_rows = static_cast<int>(std::max<std::size_t>(1, (8u << 20) / (16 * row_bytes)) * 16);
-            std::vector<std::uint32_t> band(4 * row_texels *
+            std::vector<std::uint32_t> band(channels * row_texels *
                                             static_cast<std::size_t>(std::min(band_rows, texture.height)));
             for (int first = 0; first < texture.height; first += band_rows) {
                 const int rows = std::min(band_rows, texture.height - first);
                 const std::size_t band_texels = row_texels * static_cast<std::size_t>(rows);
-                const std::uint32_t* words = texture.words.data() + row_texels * static_cast<std::size_t>(first) * 2;
-                // Channel c sits in half (c % 2) of word (c / 2), low half first.
+                const std::uint32_t* words =
+                    texture.words.data() + row_texels * static_cast<std::size_t>(first) * words_per_texel;
                 for (std::size_t t = 0; t < band_texels; ++t)
-                    for (std::size_t c = 0; c < 4; ++c)
-                        band[c * band_texels + t] = (words[2 * t + c / 2] >> (16 * (c % 2))) & 0xFFFFu;
+                    for (std::size_t c = 0; c < channels; ++c)
+                        band[c * band_texels + t] = packed_channel(words + words_per_texel * t, c, layout.bits);
                 const Imath::Box2i rows_window(Imath::V2i(0, first), Imath::V2i(texture.width - 1, first + rows - 1));
                 Imf::FrameBuffer frame_buffer;
-                for (std::size_t c = 0; c < 4; ++c)
+                for (std::size_t c = 0; c < channels; ++c)
                     frame_buffer.insert(layout.channels[c],
                                         Imf::Slice::Make(type, band.data() + c * band_texels, rows_window,
                                                          sizeof(std::uint32_t), sizeof(std::uint32_t) * row_texels));
@@ -1113,22 +1121,13 @@ TextureFile read_texture_exr(const std::string& path) {
     texture.words.assign(texels * words_per_texel, 0u);
     for (std::size_t t = 0; t < texels; ++t) {
         std::uint32_t* words = texture.words.data() + t * words_per_texel;
-        switch (*format) {
-        case Format::moments128:
-            for (std::size_t c = 0; c < 4; ++c) words[c] = planes[c][t];
-            break;
-        case Format::msm64:
-        case Format::nlq64:
-            for (std::size_t c = 0; c < 4; ++c) {
-                if (planes[c][t] > 0xFFFFu)
-                    fail(path, texel_name(static_cast<long long>(t % static_cast<std::size_t>(texture.width)),
-                                          static_cast<long long>(t / static_cast<std::size_t>(texture.width))) +
-                                   " channel " + layout.channels[c] + ": code " + std::to_string(planes[c][t]) +
-                                   " does not fit 16 bits");
-                words[c / 2] |= planes[c][t] << (16 * (c % 2));
-            }
-            break;
-        case Format::nlq32: words[0] = planes[0][t]; break;
+        for (std::size_t c = 0; c < planes.size(); ++c) {
+            if (layout.bits < 32 && planes[c][t] >> layout.bits != 0)
+                fail(path, texel_name(static_cast<long long>(t % static_cast<std::size_t>(texture.width)),
+                                      static_cast<long long>(t / static_cast<std::size_t>(texture.width))) +
+                               " channel " + layout.channels[c] + ": code " + std::to_string(planes[c][t]) +
+                               " does not fit " + std::to_string(layout.bits) + " bits");
+            words[c * layout.bits / 32] |= planes[c][t] << (c * layout.bits % 32);
         }
     }
     return result;

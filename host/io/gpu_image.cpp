@@ -9,17 +9,6 @@ namespace msmcl::io {
 
 namespace {
 
-// VkFormat and DXGI_FORMAT values from the Vulkan and DXGI headers.
-constexpr GpuFormatInfo kFormats[] = {
-    {"r16g16b16a16_unorm", 91, 11, 8, 2, 4},       // VK_FORMAT_R16G16B16A16_UNORM, DXGI_FORMAT_R16G16B16A16_UNORM
-    {"r32_uint", 98, 42, 4, 4, 1},                 // VK_FORMAT_R32_UINT, DXGI_FORMAT_R32_UINT
-    {"r32g32b32a32_sfloat", 109, 2, 16, 4, 4},     // VK_FORMAT_R32G32B32A32_SFLOAT, DXGI_FORMAT_R32G32B32A32_FLOAT
-    {"r32g32b32a32_uint", 107, 3, 16, 4, 4},       // VK_FORMAT_R32G32B32A32_UINT, DXGI_FORMAT_R32G32B32A32_UINT
-    {"a2b10g10r10_unorm_pack32", 64, 24, 4, 4, 4}, // VK_FORMAT_A2B10G10R10_UNORM_PACK32, DXGI_FORMAT_R10G10B10A2_UNORM
-};
-constexpr GpuFormat kAllFormats[] = {GpuFormat::r16g16b16a16_unorm, GpuFormat::r32_uint, GpuFormat::r32g32b32a32_sfloat,
-                                     GpuFormat::r32g32b32a32_uint, GpuFormat::a2b10g10r10_unorm_pack32};
-
 // `layers` > 1: a texture array (KTX2 layerCount, DDS arraySize); one layer: a 2D texture.
 GpuImage image_of_words(GpuFormat format, int width, int height, int layers, const std::vector<std::uint32_t>& words) {
     GpuImage image;
@@ -36,17 +25,15 @@ GpuImage image_of_words(GpuFormat format, int width, int height, int layers, con
 
 } // namespace
 
-const GpuFormatInfo& gpu_format_info(GpuFormat format) noexcept { return kFormats[static_cast<int>(format)]; }
-
 std::optional<GpuFormat> gpu_format_from_vk(std::uint32_t vk_format) noexcept {
-    for (GpuFormat format : kAllFormats)
-        if (gpu_format_info(format).vk_format == vk_format) return format;
+    for (const GpuFormatInfo& info : detail::kGpuFormats)
+        if (info.vk_format == vk_format) return info.format;
     return std::nullopt;
 }
 
 std::optional<GpuFormat> gpu_format_from_dxgi(std::uint32_t dxgi_format) noexcept {
-    for (GpuFormat format : kAllFormats)
-        if (gpu_format_info(format).dxgi_format == dxgi_format) return format;
+    for (const GpuFormatInfo& info : detail::kGpuFormats)
+        if (info.dxgi_format == dxgi_format) return info.format;
     return std::nullopt;
 }
 
@@ -56,15 +43,7 @@ std::optional<std::string> GpuImage::find_metadata(const std::string& key) const
     return std::nullopt;
 }
 
-GpuFormat gpu_format_of(Format format) noexcept {
-    switch (format) {
-    case Format::moments128: return GpuFormat::r32g32b32a32_sfloat;
-    case Format::msm64:
-    case Format::nlq64: return GpuFormat::r16g16b16a16_unorm;
-    case Format::nlq32: return GpuFormat::r32_uint;
-    }
-    return GpuFormat::r32_uint;
-}
+GpuFormat gpu_format_of(Format format) noexcept { return detail::texture_kind(format).gpu_format; }
 
 GpuImage gpu_image_of(const Texture& texture, std::vector<std::pair<std::string, std::string>> metadata) {
     GpuImage image =
@@ -75,8 +54,8 @@ GpuImage gpu_image_of(const Texture& texture, std::vector<std::pair<std::string,
 }
 
 GpuImage gpu_image_of(const SatTable& table) {
-    GpuImage image = image_of_words(GpuFormat::r32g32b32a32_uint, table.width, table.height, table.layers, table.words);
-    image.metadata = {{"msmcl:format", "sat"},
+    GpuImage image = image_of_words(detail::kSatKind.gpu_format, table.width, table.height, table.layers, table.words);
+    image.metadata = {{"msmcl:format", detail::kSatKind.name},
                       {"msmcl:maxKernelTexels", std::to_string(table.max_kernel_texels)},
                       {"msmcl:scale", std::to_string(table.scale)}};
     return image;

@@ -2,6 +2,8 @@
 // Vulkan / DXGI pixel format and the packed texel bytes, rows top to bottom.
 #pragma once
 
+#include "runtime/texture_kinds.hpp"
+
 #include <msmcl/types.hpp>
 
 #include <cstdint>
@@ -12,24 +14,10 @@
 
 namespace msmcl::io {
 
-/// The pixel formats msmcl writes.
-enum class GpuFormat {
-    r16g16b16a16_unorm,       ///< msm64, nlq64: 4 x unorm16 (the codes, R first)
-    r32_uint,                 ///< nlq32
-    r32g32b32a32_sfloat,      ///< moments128: b1..b4
-    r32g32b32a32_uint,        ///< summed-area tables: channels R, G, B, A
-    a2b10g10r10_unorm_pack32, ///< six-moment single scattering: R bits 0-9, G 10-19, B 20-29, A 30-31
-};
-
-struct GpuFormatInfo {
-    const char* name;          ///< "r16g16b16a16_unorm", ...
-    std::uint32_t vk_format;   ///< VkFormat (KTX2 vkFormat)
-    std::uint32_t dxgi_format; ///< DXGI_FORMAT (DDS DX10 header)
-    std::uint32_t texel_bytes; ///< bytes per texel
-    std::uint32_t type_size;   ///< KTX2 typeSize: bytes of the component or packed type
-    std::uint32_t channels;    ///< components (1 or 4)
-};
-const GpuFormatInfo& gpu_format_info(GpuFormat format) noexcept;
+/// The pixel formats msmcl writes and their facts: rows of the format table.
+using detail::GpuFormat;
+using detail::GpuFormatInfo;
+using detail::gpu_format_info;
 /// The format with this VkFormat or DXGI_FORMAT value, if msmcl writes it.
 std::optional<GpuFormat> gpu_format_from_vk(std::uint32_t vk_format) noexcept;
 std::optional<GpuFormat> gpu_format_from_dxgi(std::uint32_t dxgi_format) noexcept;

@@ -68,15 +68,16 @@ struct Reader {
     }
 };
 
+// The channels of the format's texel, packed from bit 0 up.
 std::vector<Sample> samples_of(GpuFormat format) {
-    switch (format) {
-    case GpuFormat::r16g16b16a16_unorm: return {{0, 0, 16}, {1, 16, 16}, {2, 32, 16}, {3, 48, 16}};
-    case GpuFormat::r32_uint: return {{0, 0, 32}};
-    case GpuFormat::r32g32b32a32_sfloat:
-    case GpuFormat::r32g32b32a32_uint: return {{0, 0, 32}, {1, 32, 32}, {2, 64, 32}, {3, 96, 32}};
-    case GpuFormat::a2b10g10r10_unorm_pack32: return {{0, 0, 10}, {1, 10, 10}, {2, 20, 10}, {3, 30, 2}};
+    const GpuFormatInfo& info = gpu_format_info(format);
+    std::vector<Sample> samples;
+    std::uint32_t offset = 0;
+    for (std::uint32_t c = 0; c < info.channels; ++c) {
+        samples.push_back({c, offset, info.channel_bits[c]});
+        offset += info.channel_bits[c];
     }
-    return {};
+    return samples;
 }
 
 // The key/value data block: sorted by key (byte-wise), each entry padded to 4 bytes.
@@ -120,12 +121,10 @@ std::vector<std::uint32_t> ktx2_data_format_descriptor(GpuFormat format) {
     for (const Sample& sample : samples) {
         std::uint32_t channel = sample.channel == 3 ? kDfChannelAlpha : sample.channel;
         std::uint32_t lower = 0, upper = 0;
-        switch (format) {
-        case GpuFormat::r16g16b16a16_unorm:
-        case GpuFormat::a2b10g10r10_unorm_pack32: upper = (1u << sample.bits) - 1u; break; // normalized: max code
-        case GpuFormat::r32_uint:
-        case GpuFormat::r32g32b32a32_uint: upper = 1u; break; // integers: 1 stands for 1
-        case GpuFormat::r32g32b32a32_sfloat:
+        switch (info.kind) {
+        case detail::ChannelKind::unorm: upper = (1u << sample.bits) - 1u; break; // normalized: max code
+        case detail::ChannelKind::uint: upper = 1u; break;                        // integers: 1 stands for 1
+        case detail::ChannelKind::sfloat:
             channel |= kDfQualifierFloat | kDfQualifierSigned;
             lower = kFloatMinusOne;
             upper = kFloatOne;

@@ -5,8 +5,12 @@
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 #include "runtime/enum_names.hpp"
+#include "runtime/texture_kinds.hpp"
 #include "runtime/tuning.hpp"
 #include "runtime/work_distribution.hpp"
+
+#include "kernels/fused_cpu_layout.clh"
+#include "kernels/fused_layout.clh"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -24,38 +28,38 @@ namespace msmcl {
 
 namespace {
 
-// The fused kernel's work-group, tile and local memory (kernels/fused_layout.clh).
-constexpr std::size_t kFusedGroupSize = 256;
-constexpr int kFusedTileWidth = 32;
-constexpr int kFusedTileHeight = 24;
-constexpr unsigned long long kFusedLocalBytes = 4ull * (40 * 32 + 7) * sizeof(float);
-// The CPU distribution (kernels/filter_fused_cpu.cl): one work-item per input column of a
-// tile (width + 8 guard columns), the tile's rows streamed. Tuning parameters, measured
-// on PoCL 3.1 / AVX-512 (bench/): MSMCL_CPU_TILE="WxH" overrides them for other CPUs
-// (host/runtime/tuning.hpp).
+// The fused kernel's work-group, tile and local memory: the sizes the kernel compiles with
+// (kernels/fused_layout.clh).
+constexpr std::size_t kFusedGroupSize = FUSED_GROUP_SIZE;
+constexpr int kFusedTileWidth = FUSED_OUT_W;
+constexpr int kFusedTileHeight = FUSED_OUT_H;
+// The CPU distribution (kernels/filter_fused_cpu.cl, layout in fused_cpu_layout.clh): one
+// work-item per input column of a tile (width + 8 guard columns), the tile's rows streamed.
+// Tuning parameters, measured on PoCL 3.1 / AVX-512 (bench/): MSMCL_CPU_TILE="WxH"
+// overrides them for other CPUs (host/runtime/tuning.hpp).
 constexpr int kCpuTileWidth = 128;
 constexpr int kCpuTileHeight = 64;
-constexpr int kCpuGuard = 4;
 
 struct CpuTiling {
     int width = kCpuTileWidth;
     int height = kCpuTileHeight;
 
-    // Work-items per group: one per input column (the tile and its guard band).
-    std::size_t group_size() const { return static_cast<std::size_t>(width + 2 * kCpuGuard); }
-    // Local memory of one work-group (CPU_FILTER_TILE): two resolved input rows (plus 8
-    // floats of padding), a ring of 9 horizontally blurred rows, one filtered row and the
-    // texel words, 4 planes each.
-    unsigned long long local_bytes() const {
-        const unsigned long long columns = static_cast<unsigned long long>(width) + 2 * kCpuGuard;
-        return 4ull * sizeof(float) * (2 * (columns + 2 * kCpuGuard) + 9 * columns + columns + columns);
-    }
+    std::size_t group_size() const { return static_cast<std::size_t>(CPU_IN_W_OF(width)); }
 };
+
+// The most local memory a variant of `kernel` (fused_paper or fused_cpu) needs over every
+// format: a device runs the kernel for all formats or for none.
+unsigned long long most_local_bytes(FilterKernel kernel, const CpuTiling& tiling) {
+    unsigned long long most = 0;
+    for (Format format : detail::moment_formats())
+        most = std::max(most, detail::filter_local_bytes(kernel, format, tiling.width));
+    return most;
+}
 
 // The default tiling, or the MSMCL_CPU_TILE override (host/runtime/tuning.hpp).
 CpuTiling cpu_tiling() {
     CpuTiling tiling;
-    if (const std::optional<detail::TileSize> tile = detail::cpu_filter_tile_override(2 * kCpuGuard)) {
+    if (const std::optional<detail::TileSize> tile = detail::cpu_filter_tile_override(2 * CPU_GUARD)) {
         tiling.width = tile->width;
         tiling.height = tile->height;
     }
@@ -109,12 +113,13 @@ void validate_device_sizes(const DeviceInfo& device, int width, int height, int 
 }
 
 bool device_runs_fused(const DeviceInfo& device) {
-    return device.max_work_group_size >= kFusedGroupSize && device.local_mem_bytes >= kFusedLocalBytes;
+    return device.max_work_group_size >= kFusedGroupSize &&
+           device.local_mem_bytes >= most_local_bytes(FilterKernel::fused_paper, CpuTiling{});
 }
 
 bool device_runs_fused_cpu(const DeviceInfo& device, const CpuTiling& tiling) {
     return device.max_work_group_size >= tiling.group_size() &&
-           device.local_mem_bytes >= tiling.local_bytes();
+           device.local_mem_bytes >= most_local_bytes(FilterKernel::fused_cpu, tiling);
 }
 
 std::string device_limits(const DeviceInfo& device) {
@@ -135,13 +140,15 @@ FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
     if (requested == FilterKernel::fused_paper && !device_runs_fused(device)) {
         throw device_error("filter: device '" + device.name + "' cannot run the fused kernel (needs " +
                            std::to_string(kFusedGroupSize) + " work-items per group and " +
-                           std::to_string(kFusedLocalBytes) + " bytes of local memory; it has " +
+                           std::to_string(most_local_bytes(FilterKernel::fused_paper, tiling)) +
+                           " bytes of local memory; it has " +
                            device_limits(device) + ")");
     }
     if (requested == FilterKernel::fused_cpu && !device_runs_fused_cpu(device, tiling)) {
         throw device_error("filter: device '" + device.name + "' cannot run the CPU fused kernel (needs " +
                            std::to_string(tiling.group_size()) + " work-items per group and " +
-                           std::to_string(tiling.local_bytes()) + " bytes of local memory; it has " +
+                           std::to_string(most_local_bytes(FilterKernel::fused_cpu, tiling)) +
+                           " bytes of local memory; it has " +
                            device_limits(device) + ")");
     }
     return requested;
@@ -181,7 +188,7 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
     const int tiles_x = (width + tiling.width - 1) / tiling.width;
     const int tiles_y = (height + tiling.height - 1) / tiling.height;
     const int ix0 = 1; // the first tile column's guard band leaves the image
-    const int ix1 = std::max(ix0, (width - kCpuGuard) / tiling.width);
+    const int ix1 = std::max(ix0, (width - CPU_GUARD) / tiling.width);
     const std::size_t interior_columns = static_cast<std::size_t>(ix1 - ix0);
     const std::size_t border_columns = static_cast<std::size_t>(tiles_x) - interior_columns;
     const std::size_t group = tiling.group_size();
@@ -345,15 +352,25 @@ FilterKernel filter_kernel_for(const Context& context, FilterKernel requested) {
 
 namespace detail {
 
+unsigned long long filter_local_bytes(FilterKernel kernel, Format format, int cpu_tile_width) {
+    const TextureKind& kind = texture_kind(format);
+    if (kernel == FilterKernel::fused_paper) return FUSED_LOCAL_BYTES(kind.shifted);
+    if (kernel == FilterKernel::fused_cpu)
+        return static_cast<unsigned long long>(CPU_LOCAL_BYTES(cpu_tile_width, kind.shifted, float_texels(kind)));
+    return 0;
+}
+
+int filter_cpu_tile_width() { return cpu_tiling().width; }
+
 FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested) {
     return choose_kernel(device, requested);
 }
 
-// Compile-time variant: sample count, format (msmcl::Format order), depth convention.
+// Compile-time variant: sample count, format (its row of the format table), depth convention.
 std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array) {
-    std::vector<std::string> defines = {"MSM_SAMPLES=" + std::to_string(samples),
-                                        "MSM_FORMAT=" + std::to_string(static_cast<int>(format)),
-                                        "MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0")};
+    std::vector<std::string> defines = texture_kind_defines(format);
+    defines.push_back("MSM_SAMPLES=" + std::to_string(samples));
+    defines.push_back("MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0"));
     // Translucent layers: the compositing resolve (opaque maps keep the opaque program).
     if (layers > 0) defines.push_back("MSM_LAYERS=" + std::to_string(layers));
     // Texture arrays: the layer-slicing program (single maps keep the plain one).
@@ -423,6 +440,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                           choose_kernel(impl.info, options.kernel), static_cast<int>(layers.size()), depth.layers);
 
     // Upload (the translucent layers one after the other), run on the Context's queue, read back.
+    detail::StageTimer stages(impl, options.on_stage);
     Texture texture;
     texture.format = options.format;
     texture.width = depth.width;
@@ -442,12 +460,15 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                                                "clCreateBuffer(layer opacity)");
         layer_buffers.count = static_cast<int>(layers.size());
     }
+    stages.uploaded({&depth_buffer, &layer_buffers.depth, &layer_buffers.opacity});
     const std::size_t texture_bytes = texture.words.size() * sizeof(std::uint32_t);
     const cl::Buffer texture_buffer =
         detail::result_buffer(impl, texture.words.data(), texture_bytes, "clCreateBuffer(texture)");
     const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
                                           texture_buffer, options, layer_buffers, depth.layers);
+    stages.computed();
     detail::read_result(impl, texture_buffer, texture_bytes, texture.words.data(), done, "clEnqueueReadBuffer(texture)");
+    stages.downloaded(texture_buffer, texture_bytes);
     return texture;
 }
 

@@ -3,6 +3,7 @@
 // images staged for soft shadows (sat.hpp). Only device-side commands, chained by events.
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/texture_kinds.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/interop.hpp>
@@ -230,7 +231,8 @@ void check_texture_image(detail::ContextImpl& impl, cl_mem image, Format format,
                          const char* call) {
     const ImageShape shape = describe_image(image, impl.context(), call, "output image");
     std::string expected = format_text(texture_image_format(format));
-    if (format == Format::msm64 || format == Format::nlq64) expected += " or CL_RGBA/CL_UNSIGNED_INT16";
+    if (const cl_channel_type also = detail::texture_kind(format).cl_type_also)
+        expected += " or " + format_text(cl_image_format{texture_image_format(format).image_channel_order, also});
     check_output_image(shape, image_format_matches(format, shape.format), expected, width, height, layers, call);
 }
 
@@ -292,29 +294,28 @@ const auto sat_operation(Context& context, const SatOptions& options) {
     };
 }
 
-constexpr std::size_t kSatTexelBytes = 4 * sizeof(cl_uint);
+const std::size_t kSatTexelBytes = detail::gpu_format_info(detail::kSatKind).texel_bytes;
 
 } // namespace
 
 cl_image_format texture_image_format(Format format) noexcept {
-    switch (format) {
-    case Format::moments128: return cl_image_format{CL_RGBA, CL_FLOAT};
-    case Format::msm64:
-    case Format::nlq64: return cl_image_format{CL_RGBA, CL_UNORM_INT16};
-    case Format::nlq32: return cl_image_format{CL_R, CL_UNSIGNED_INT32};
-    }
-    return cl_image_format{0, 0};
+    if (!detail::is_known(format)) return cl_image_format{0, 0};
+    const detail::TextureKind& kind = detail::texture_kind(format);
+    return cl_image_format{kind.cl_order, kind.cl_type};
 }
 
 bool image_format_matches(Format format, const cl_image_format& image_format) noexcept {
-    const cl_image_format natural = texture_image_format(format);
-    if (image_format.image_channel_order != natural.image_channel_order) return false;
-    if (image_format.image_channel_data_type == natural.image_channel_data_type) return true;
-    return (format == Format::msm64 || format == Format::nlq64) &&
-           image_format.image_channel_data_type == CL_UNSIGNED_INT16;
+    if (!detail::is_known(format)) return false;
+    const detail::TextureKind& kind = detail::texture_kind(format);
+    if (image_format.image_channel_order != kind.cl_order) return false;
+    return image_format.image_channel_data_type == kind.cl_type ||
+           (kind.cl_type_also != 0 && image_format.image_channel_data_type == kind.cl_type_also);
 }
 
-cl_image_format sat_image_format() noexcept { return cl_image_format{CL_RGBA, CL_UNSIGNED_INT32}; }
+cl_image_format sat_image_format() noexcept {
+    const detail::TextureKind& sat = detail::kSatKind;
+    return cl_image_format{sat.cl_order, sat.cl_type};
+}
 
 void filter_to_image(Context& context, const DeviceDepth& depth, cl_mem image, const FilterOptions& options,
                      const Enqueue& enqueue) {

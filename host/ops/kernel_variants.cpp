@@ -1,6 +1,7 @@
 // The catalogue of program variants (host/ops/kernel_variants.hpp): the operations' own
 // define functions and device choices, enumerated.
 #include "ops/kernel_variants.hpp"
+#include "runtime/texture_kinds.hpp"
 
 #include <initializer_list>
 #include <set>
@@ -21,7 +22,6 @@ DeviceInfo synthetic_gpu(std::size_t max_work_group_size, unsigned long long loc
 
 namespace {
 
-const Format kFormats[] = {Format::moments128, Format::msm64, Format::nlq64, Format::nlq32};
 
 std::string format_text(Format format) { return format_name(format); }
 
@@ -72,13 +72,18 @@ std::vector<KernelVariant> kernel_variants(bool full) {
     }
     const auto on_gpu = [&](FilterKernel kernel) { return gpu_filters.count(kernel) > 0; };
     const auto sat_on_gpu = [&](SatKernel kernel) { return gpu_sats.count(kernel) > 0; };
+    // The host's local-memory figure of the variant just added.
+    const auto states_local_bytes = [&](FilterKernel kernel, Format format) {
+        variants.back().local_bytes = filter_local_bytes(kernel, format, filter_cpu_tile_width());
+    };
 
     // filter: the three distributions, every format.
-    for (Format format : kFormats) {
+    for (Format format : moment_formats()) {
         for (const DepthVariant& v : depth_variants(full, {1, 2, 4, 8, 16}, {1, 4})) {
             variants.push_back({"filter", "filter_fused_gpu.cl", filter_defines(v.samples, format, v.range, v.layers),
                                 {{"filter_fused_gpu", on_gpu(FilterKernel::fused_paper)}},
                                 "fused_paper " + variant_note(format, v.samples, v.range, v.layers)});
+            states_local_bytes(FilterKernel::fused_paper, format);
         }
         for (const DepthVariant& v : depth_variants(full, {1, 4, 16}, {1})) {
             const bool gpu = on_gpu(FilterKernel::three_pass);
@@ -91,6 +96,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
             variants.push_back({"filter", "filter_fused_cpu.cl", filter_cpu_defines(v.samples, format, v.range, v.layers),
                                 {{"filter_fused_cpu_interior", gpu}, {"filter_fused_cpu_border", gpu}},
                                 "fused_cpu " + variant_note(format, v.samples, v.range, v.layers)});
+            states_local_bytes(FilterKernel::fused_cpu, format);
         }
     }
     // The translucent resolve of the CPU kernel once (covering set).
@@ -100,6 +106,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
                             {{"filter_fused_cpu_interior", on_gpu(FilterKernel::fused_cpu)},
                              {"filter_fused_cpu_border", on_gpu(FilterKernel::fused_cpu)}},
                             "fused_cpu " + variant_note(Format::nlq64, 4, DepthRange::zero_one, max_translucent_layers)});
+        states_local_bytes(FilterKernel::fused_cpu, Format::nlq64);
     }
     // Texture arrays (MSM_ARRAY): the layer-slicing programs, opaque and translucent.
     for (Format format : {Format::msm64, Format::nlq64}) {
@@ -108,6 +115,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
                                 filter_defines(4, format, DepthRange::zero_one, layers, true),
                                 {{"filter_fused_gpu", on_gpu(FilterKernel::fused_paper)}},
                                 "fused_paper array " + variant_note(format, 4, DepthRange::zero_one, layers)});
+            states_local_bytes(FilterKernel::fused_paper, format);
         }
         variants.push_back({"filter", "filter_three_pass.cl", filter_defines(4, format, DepthRange::zero_one, 0, true),
                             {{"filter_resolve", on_gpu(FilterKernel::three_pass)},
@@ -118,6 +126,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
                             {{"filter_fused_cpu_interior", on_gpu(FilterKernel::fused_cpu)},
                              {"filter_fused_cpu_border", on_gpu(FilterKernel::fused_cpu)}},
                             "fused_cpu array " + variant_note(format, 4, DepthRange::zero_one, 0)});
+        states_local_bytes(FilterKernel::fused_cpu, format);
     }
     // Depth upload from images or planes (interop).
     variants.push_back({"interop", "interop.cl", {}, {{"depth_interleave_layers", true}}, ""});
@@ -191,7 +200,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
     // soft shadows, shade.
     for (DepthRange range : {DepthRange::zero_one, DepthRange::minus_one_one})
         variants.push_back({"soft", "sat_soft.cl", soft_defines(range), {{"sat_soft_shade", true}}, range_text(range)});
-    for (Format format : kFormats) {
+    for (Format format : moment_formats()) {
         for (Lookup lookup : {Lookup::nearest, Lookup::bilinear, Lookup::dither}) {
             for (DepthRange range : {DepthRange::zero_one, DepthRange::minus_one_one}) {
                 if (!full && range == DepthRange::minus_one_one && lookup != Lookup::bilinear) continue;

@@ -22,6 +22,12 @@ FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested)
 /// Defines of filter_fused_gpu.cl and filter_three_pass.cl; `array`: the texture-array
 /// program (MSM_ARRAY, one launch for every layer of a layered depth map).
 std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array = false);
+/// Local memory in bytes of one work-group of `kernel` (fused_paper, fused_cpu with tiles
+/// `cpu_tile_width` wide) for `format`: the sizes the kernels compile with
+/// (kernels/fused_layout.clh, fused_cpu_layout.clh); 0 for the others.
+unsigned long long filter_local_bytes(FilterKernel kernel, Format format, int cpu_tile_width);
+/// The CPU tile width in effect (MSMCL_CPU_TILE).
+int filter_cpu_tile_width();
 /// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE).
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers,
                                             bool array = false);
@@ -58,6 +64,7 @@ struct KernelVariant {
     };
     std::vector<Kernel> kernels; ///< the kernels the host creates from this program
     std::string note;            ///< what the variant is, "nlq64 S=4, 8 layers"
+    unsigned long long local_bytes = 0; ///< the host's figure of each kernel's local memory (0: none stated)
 };
 
 /// The covering set (`full` false): every program and kernel, every format, lookup and

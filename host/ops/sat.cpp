@@ -412,6 +412,7 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
     validate_device_bytes(impl.info, layers.size() * values * sizeof(float), "the translucent layers");
 
     // Upload (the translucent layers one after the other), build on the Context's queue, read back.
+    detail::StageTimer stages(impl, options.on_stage);
     SatTable table;
     table.width = depth.width;
     table.height = depth.height;
@@ -426,22 +427,25 @@ SatTable build_sat(Context& context, const DepthImage& depth, const std::vector<
         detail::result_buffer(impl, table.words.data(), table_bytes, "clCreateBuffer(sat table)");
     const SatSource source{true, depth.samples, options.depth_range, scale, depth.layers};
     const SatKernel kernel = resolve_kernel(impl.info, options.kernel);
-    cl::Event done;
-    if (layers.empty()) {
-        done = enqueue_build(impl, impl.queue, {}, depth_buffer, source, depth.width, depth.height, table_buffer, kernel);
-    } else {
+    cl::Buffer depth_layers, opacity_layers;
+    if (!layers.empty()) {
         std::vector<float> layer_depth = detail::concatenated_depths(layers, depth.layers);
         std::vector<float> layer_opacity = detail::concatenated_opacities(layers, depth.layers);
-        const cl::Buffer depth_layers = detail::upload(impl, layer_depth.data(), layer_depth.size() * sizeof(float),
-                                                       "clCreateBuffer(layer depth)");
-        const cl::Buffer opacity_layers = detail::upload(impl, layer_opacity.data(),
-                                                         layer_opacity.size() * sizeof(float),
-                                                         "clCreateBuffer(layer opacity)");
-        done = enqueue_translucent_build(impl, impl.queue, {}, depth_buffer, depth_layers, opacity_layers,
-                                         static_cast<int>(layers.size()), source, depth.width, depth.height,
-                                         table_buffer, kernel);
+        depth_layers = detail::upload(impl, layer_depth.data(), layer_depth.size() * sizeof(float),
+                                      "clCreateBuffer(layer depth)");
+        opacity_layers = detail::upload(impl, layer_opacity.data(), layer_opacity.size() * sizeof(float),
+                                        "clCreateBuffer(layer opacity)");
     }
+    stages.uploaded({&depth_buffer, &depth_layers, &opacity_layers});
+    const cl::Event done =
+        layers.empty()
+            ? enqueue_build(impl, impl.queue, {}, depth_buffer, source, depth.width, depth.height, table_buffer, kernel)
+            : enqueue_translucent_build(impl, impl.queue, {}, depth_buffer, depth_layers, opacity_layers,
+                                        static_cast<int>(layers.size()), source, depth.width, depth.height,
+                                        table_buffer, kernel);
+    stages.computed();
     detail::read_result(impl, table_buffer, table_bytes, table.words.data(), done, "clEnqueueReadBuffer(sat table)");
+    stages.downloaded(table_buffer, table_bytes);
     return table;
 }
 

@@ -4,6 +4,7 @@
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 #include "runtime/enum_names.hpp"
+#include "runtime/texture_kinds.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/shade.hpp>
@@ -55,9 +56,9 @@ namespace detail {
 
 // Variant per format, lookup and depth convention (dither: and where pixels come from).
 std::vector<std::string> shade_defines(Format format, Lookup lookup, DepthRange range, bool receiver_pixels) {
-    std::vector<std::string> defines = {"MSM_FORMAT=" + std::to_string(static_cast<int>(format)),
-                                        "MSM_LOOKUP=" + std::to_string(static_cast<int>(lookup)),
-                                        std::string("MSM_DEPTH_ZERO_ONE=") + (range == DepthRange::zero_one ? "1" : "0")};
+    std::vector<std::string> defines = texture_kind_defines(format);
+    defines.push_back("MSM_LOOKUP=" + std::to_string(static_cast<int>(lookup)));
+    defines.push_back(std::string("MSM_DEPTH_ZERO_ONE=") + (range == DepthRange::zero_one ? "1" : "0"));
     if (lookup == Lookup::dither) defines.push_back(std::string("MSM_RECEIVER_PIXELS=") + (receiver_pixels ? "1" : "0"));
     return defines;
 }
@@ -147,6 +148,7 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
     if (count == 0) return {};
 
     // Upload the map and the receivers (planar u, v, z), shade, read back.
+    detail::StageTimer stages(impl, options.on_stage);
     const cl::Buffer map_buffer =
         detail::upload(impl, map.words.data(), map.words.size() * sizeof(std::uint32_t), "clCreateBuffer(map)");
     const cl::Buffer receiver_buffer = detail::upload_receivers(impl, receivers);
@@ -162,9 +164,13 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
         pixel_buffer = detail::upload(impl, xy.data(), xy.size() * sizeof(std::uint32_t), "clCreateBuffer(pixels)");
     }
 
+    stages.uploaded({&map_buffer, &receiver_buffer, &pixel_buffer});
     shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height}, receiver_buffer(), pixel_buffer(),
           count, result_buffer(), options, Enqueue{});
-    return detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
+    stages.computed();
+    std::vector<float> intensity = detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
+    stages.downloaded(result_buffer, count * sizeof(float));
+    return intensity;
 }
 
 } // namespace msmcl

@@ -147,13 +147,18 @@ std::vector<float> soft_shade(Context& context, const SatTable& table, const Rec
         throw device_error("soft: a " + std::to_string(table.width) + "x" + std::to_string(table.height) +
                           " table exceeds the device's largest buffer (" + std::to_string(impl.info.max_alloc_bytes) +
                           " bytes)");
+    detail::StageTimer stages(impl, options.on_stage);
     const cl::Buffer table_buffer = detail::upload(impl, table.words.data(), table_bytes, "clCreateBuffer(sat table)");
     const cl::Buffer receiver_buffer = detail::upload_receivers(impl, receivers);
     const cl::Buffer result_buffer =
         detail::device_buffer(impl, CL_MEM_WRITE_ONLY, count * sizeof(float), "clCreateBuffer(intensity)");
+    stages.uploaded({&table_buffer, &receiver_buffer});
     soft_shade(context, DeviceSat{table_buffer(), table.width, table.height, table.max_kernel_texels},
                receiver_buffer(), count, result_buffer(), options, Enqueue{});
-    return detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
+    stages.computed();
+    std::vector<float> intensity = detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");
+    stages.downloaded(result_buffer, count * sizeof(float));
+    return intensity;
 }
 
 float soft_shadow_at(const SatTable& table, float u, float v, float z, const SoftShadowOptions& options) {

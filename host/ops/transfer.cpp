@@ -7,6 +7,57 @@
 
 namespace msmcl::detail {
 
+namespace {
+
+bool in_place(const cl::Buffer& buffer) { return (buffer.getInfo<CL_MEM_FLAGS>() & CL_MEM_USE_HOST_PTR) != 0; }
+
+} // namespace
+
+StageTimer::StageTimer(ContextImpl& impl, const StageObserver& observer)
+    : impl_(impl), observer_(observer), start_(std::chrono::steady_clock::now()) {}
+
+double StageTimer::elapsed_ms() const {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void StageTimer::report(const char* stage, double milliseconds, std::string note) {
+    observer_(StageTime{stage, milliseconds, std::move(note)});
+    start_ = std::chrono::steady_clock::now();
+}
+
+void StageTimer::uploaded(std::initializer_list<const cl::Buffer*> inputs) {
+    if (!observer_) return;
+    check(impl_.queue.finish(), "clFinish");
+    std::size_t bytes = 0, kept = 0;
+    for (const cl::Buffer* input : inputs) {
+        if (!input || !(*input)()) continue;
+        const std::size_t size = input->getInfo<CL_MEM_SIZE>();
+        bytes += size;
+        if (in_place(*input)) kept += size;
+    }
+    const double ms = elapsed_ms();
+    build_ms_ = impl_.programs.build_milliseconds();
+    built_ = impl_.programs.programs_built();
+    report("upload", ms, std::to_string(bytes) + " bytes" + (kept > 0 ? ", " + std::to_string(kept) + " in place" : ""));
+}
+
+void StageTimer::computed() {
+    if (!observer_) return;
+    check(impl_.queue.finish(), "clFinish");
+    const double total = elapsed_ms();
+    const double build = impl_.programs.build_milliseconds() - build_ms_;
+    const std::size_t built = impl_.programs.programs_built() - built_;
+    observer_(StageTime{"program", build,
+                        built == 0 ? std::string("cache hit")
+                                   : std::to_string(built) + (built == 1 ? " program built" : " programs built")});
+    report("kernel", std::max(0.0, total - build), "");
+}
+
+void StageTimer::downloaded(const cl::Buffer& result, std::size_t bytes) {
+    if (!observer_) return;
+    report("download", elapsed_ms(), std::to_string(bytes) + " bytes" + (in_place(result) ? " in place" : ""));
+}
+
 cl::Buffer upload(ContextImpl& impl, const void* data, std::size_t bytes, const char* what) {
     cl_int status = CL_SUCCESS;
     cl::Buffer buffer(impl.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data), &status);

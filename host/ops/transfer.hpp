@@ -7,8 +7,11 @@
 
 #include <msmcl/types.hpp>
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
+#include <string>
 #include <vector>
 
 namespace msmcl::detail {
@@ -42,5 +45,29 @@ void read_after(ContextImpl& impl, const cl::Buffer& buffer, std::size_t bytes, 
                 const char* what);
 std::vector<std::uint32_t> read_words(ContextImpl& impl, const cl::Buffer& buffer, std::size_t count,
                                       const char* what = "clEnqueueReadBuffer");
+
+/// The stages of a host call, timed for its StageObserver (types.hpp): upload, program,
+/// kernel, download. Without an observer it measures nothing and waits for nothing.
+class StageTimer {
+public:
+    StageTimer(ContextImpl& impl, const StageObserver& observer);
+    /// Ends the upload of `inputs` (the note counts their bytes and those used in place).
+    void uploaded(std::initializer_list<const cl::Buffer*> inputs);
+    /// Ends the computation once the queue is idle: "program" (the Context's time building
+    /// or loading programs since the upload) and "kernel" (the rest).
+    void computed();
+    /// Ends the read of `bytes` bytes of `result` (in place where the device shares host memory).
+    void downloaded(const cl::Buffer& result, std::size_t bytes);
+
+private:
+    void report(const char* stage, double milliseconds, std::string note);
+    double elapsed_ms() const;
+
+    ContextImpl& impl_;
+    const StageObserver& observer_;
+    std::chrono::steady_clock::time_point start_;
+    double build_ms_ = 0;
+    std::size_t built_ = 0;
+};
 
 } // namespace msmcl::detail

@@ -1,5 +1,5 @@
 // Names and sizes of formats and depth conventions.
-#include "runtime/enum_names.hpp"
+#include "runtime/texture_kinds.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/formats.hpp>
@@ -9,17 +9,14 @@
 
 namespace msmcl {
 
-// The names of Format values, both ways (format_name, parse_format).
-constexpr detail::EnumNames<Format> format_names[] = {
-    {Format::moments128, "moments128"},
-    {Format::msm64, "msm64"},
-    {Format::nlq64, "nlq64"},
-    {Format::nlq32, "nlq32"},
-};
+const char* format_name(Format format) noexcept {
+    return detail::is_known(format) ? detail::texture_kind(format).name : "unknown";
+}
 
-const char* format_name(Format format) noexcept { return detail::name_in(format_names, format); }
-
-std::optional<Format> parse_format(std::string_view name) noexcept { return detail::parse_in(format_names, name); }
+std::optional<Format> parse_format(std::string_view name) noexcept {
+    const detail::TextureKind* kind = detail::find_texture_kind(name);
+    return kind ? kind->format : std::nullopt;
+}
 
 const char* depth_range_name(DepthRange range) noexcept {
     return range == DepthRange::zero_one ? "0,1" : "-1,1";
@@ -32,14 +29,26 @@ std::optional<DepthRange> parse_depth_range(std::string_view name) noexcept {
 }
 
 std::size_t texel_bytes(Format format) noexcept {
-    switch (format) {
-        case Format::moments128: return 16;
-        case Format::msm64:
-        case Format::nlq64: return 8;
-        case Format::nlq32: return 4;
-    }
-    return 0;
+    return detail::is_known(format) ? detail::gpu_format_info(detail::texture_kind(format)).texel_bytes : 0;
 }
+
+namespace detail {
+
+std::vector<std::string> texture_kind_defines(Format format) {
+    std::vector<std::string> defines;
+    for (const TextureKind& kind : kTextureKinds)
+        if (kind.format)
+            defines.push_back(std::string(kind.kernel_constant) + "=" + std::to_string(static_cast<int>(*kind.format)));
+    const TextureKind& kind = texture_kind(format);
+    defines.push_back(std::string("MSM_FORMAT=") + kind.kernel_constant);
+    defines.push_back("MSM_TEXEL_WORDS=" + std::to_string(gpu_format_info(kind).texel_bytes / 4));
+    defines.push_back(std::string("MSM_FORMAT_SHIFTED=") + (kind.shifted ? "1" : "0"));
+    defines.push_back(std::string("MSM_BLENDS_MOMENTS=") + (kind.blends_moments ? "1" : "0"));
+    defines.push_back(std::string("MSM_FLOAT_TEXELS=") + (float_texels(kind) ? "1" : "0"));
+    return defines;
+}
+
+} // namespace detail
 
 float Texture::moment(int x, int y, int j) const {
     float value;

@@ -1,6 +1,7 @@
 // Program and kernel caching; binaries on disk when a cache directory is set.
 #include "runtime/program_cache.hpp"
 
+#include <chrono>
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -189,8 +190,11 @@ cl::Program ProgramCache::program(const cl::Context& context, const cl::Device& 
     }
     const std::lock_guard<std::mutex> building(entry->build);
     if (!entry->built) {
+        const auto start = std::chrono::steady_clock::now();
         entry->program = build(context, device, label, source.text, options, disk_directory);
         entry->built = true;
+        build_nanoseconds_ += static_cast<std::uint64_t>(
+            std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
     }
     return entry->program;
 }

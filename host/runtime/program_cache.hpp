@@ -44,6 +44,8 @@ public:
     void set_disk_directory(const std::string& directory, const std::string& what = "binary cache directory");
     std::string disk_directory() const;
     std::size_t programs_built() const { return programs_built_.load(); }
+    /// Time spent building programs or loading them from the disk cache, all threads together.
+    double build_milliseconds() const { return static_cast<double>(build_nanoseconds_.load()) * 1e-6; }
 
 private:
     using Key = std::tuple<cl_context, cl_device_id, std::string /*options*/, std::uint64_t /*source*/>;
@@ -64,6 +66,7 @@ private:
     std::map<std::tuple<Key, std::string /*kernel*/, std::thread::id>, cl::Kernel> kernels_;
     std::string disk_directory_;
     std::atomic<std::size_t> programs_built_{0};
+    std::atomic<std::uint64_t> build_nanoseconds_{0};
 };
 
 } // namespace msmcl::detail

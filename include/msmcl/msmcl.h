@@ -13,7 +13,8 @@
  * only ever go at the end, so callers that fill a struct with its *_init function and
  * then set fields stay source compatible, but must be rebuilt.
  *
- * Threads: a context is not thread-safe; use one per thread (as msmcl::Context).
+ * Threads: any number of threads may share a context and call operations on it at once
+ * (as msmcl::Context, context.hpp); destroying it while another thread uses it is not safe.
  * Memory: the library never keeps the caller's pointers past a call; it retains the
  * OpenCL objects of msmcl_context_create_from_cl and releases only what it retained.
  *

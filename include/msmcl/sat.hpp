@@ -130,6 +130,7 @@ struct SoftShadowOptions {
     /// The filter square split into filter_parts x filter_parts equal parts, each with its
     /// own 4MSM bound, averaged by area. In [1, 4]; costs a query and a 4MSM bound per part.
     int filter_parts = 2;
+    StageObserver on_stage; ///< the host call's stage timings (none: not timed)
 };
 
 /// The blocker search side and the largest filter side (floor(sqrt(N))) the options give

@@ -12,9 +12,26 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace msmcl {
+
+// ---- Stage timings of the host calls
+
+/// One stage of a host call (filter, build_sat, shade, soft_shade on host arrays), timed:
+/// "upload", "program" (building its programs, or finding them in the Context's caches),
+/// "kernel", "download".
+struct StageTime {
+    const char* stage = "";
+    double milliseconds = 0;
+    std::string note; ///< "4194304 bytes, 4194304 in place", "1 program built", "cache hit"
+};
+/// Called on the calling thread as each stage of a host call ends (`on_stage` of its
+/// options). A call given one waits for the device at the end of every stage, so that each
+/// time is the stage's own; device calls (cl_mem in and out) ignore it.
+using StageObserver = std::function<void(const StageTime&)>;
 
 // ---- Depth maps (filter, build_sat)
 
@@ -75,6 +92,7 @@ struct FilterOptions {
     float sigma = 2.4f; ///< Gaussian standard deviation in texels; 0 = no blur
     DepthRange depth_range = DepthRange::zero_one;
     FilterKernel kernel = FilterKernel::automatic;
+    StageObserver on_stage; ///< the host call's stage timings (none: not timed)
 };
 
 // ---- Filtered maps and their shading (shade)
@@ -108,6 +126,7 @@ struct ShadeOptions {
     /// dither, receivers without explicit pixels: receiver i is pixel (i % screen_width,
     /// i / screen_width) of a row-major image; 0 = one row (pixel (i, 0)).
     std::uint32_t screen_width = 0;
+    StageObserver on_stage; ///< the host call's stage timings (none: not timed)
 };
 
 /// Screen pixel of each receiver (dither indexes the blue noise by it; the other lookups
@@ -152,6 +171,7 @@ struct SatOptions {
     std::uint32_t max_kernel_texels = 27 * 27;
     DepthRange depth_range = DepthRange::zero_one;
     SatKernel kernel = SatKernel::automatic;
+    StageObserver on_stage; ///< the host call's stage timings (none: not timed)
 };
 
 /// A table in host memory, or a texture array of `layers` tables (build_sat of a layered
