@@ -296,6 +296,15 @@ TEST_F(Files, NulInListPathsIsRefusedWithItsPosition) {
     EXPECT_FALSE(fs::exists(path("a.exr")));
 }
 
+// Found by fuzz/fuzz_batch_list.cpp: a number past double in a manifest is bad input (exit 2),
+// not an uncaught JSON exception (exit 1).
+TEST_F(Files, ManifestNumberPastDoubleIsBadInput) {
+    write_text("big.json", R"([{"input": "d.exr", "sigma": 1E999999}])");
+    expect_refused(cli({"filter", "--list", "big.json", "-o", "out", "--format", "msm64"}),
+                   "big.json: not a valid JSON manifest");
+    EXPECT_FALSE(fs::exists(path("out")));
+}
+
 // ---- 8. Malformed containers.
 
 TEST_F(Files, MalformedContainersAreRefused) {

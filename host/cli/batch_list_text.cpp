@@ -34,7 +34,7 @@ std::vector<BatchEntry> parse_manifest(const std::string& name, const std::strin
     json manifest;
     try {
         manifest = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) { // parse_error, or out_of_range for a number past double
         throw input_error(name + ": not a valid JSON manifest: " + e.what());
     }
     if (!manifest.is_array()) throw input_error(name + ": a manifest is a JSON array of entries");
