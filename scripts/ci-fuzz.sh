@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 build_dir=${MSMCL_SANITIZE_BUILD_DIR:-build-sanitize}
 seconds=${MSMCL_FUZZ_SECONDS:-30}
-targets=(depth_exr receivers_exr texture_exr ktx2 dds scene_json)
+targets=(depth_exr receivers_exr texture_exr ktx2 dds scene_json batch_list)
 
 bash scripts/configure-sanitize.sh "$build_dir"
 cmake --build "$build_dir" --target msmcl_fuzz -j"$(nproc 2>/dev/null || echo 2)"

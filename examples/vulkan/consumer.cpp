@@ -26,6 +26,7 @@
 #include "io/ktx2.hpp"
 #include "io/png_io.hpp"
 #include "io/scene_json.hpp"
+#include "io/texture_metadata.hpp"
 #include "ops/scatter_params.hpp"
 
 #include <msmcl/errors.hpp>
@@ -227,8 +228,10 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
     const std::optional<msmcl::Format> format = format_text ? msmcl::parse_format(*format_text) : std::nullopt;
     if (!format)
         throw msmcl::input_error(a.map + ": no msmcl:format of a shadow map (moments128, msm64, nlq64, nlq32)");
-    // Validates the file's vkFormat against the table of docs/shaders.md for this texture.
+    // Validates the file's vkFormat against the table of docs/shaders.md for this texture, and its
+    // record (sigma, samples, depth range) as msmcl does.
     (void)msmcl::io::texture_of(image, *format, a.map);
+    (void)msmcl::io::texture_info_of(image, a.map);
     // A 2D map, or a texture array (a cascade set) shaded layer by layer through sampler2DArray.
     const bool array = image.array || image.layers != 1;
     if (!array && !a.layer.empty())
@@ -344,14 +347,9 @@ void run_soft(VulkanCompute& vulkan, const Language& language, const SoftArgumen
     if (image.format != msmcl::io::GpuFormat::r32g32b32a32_uint || image.array ||
         image.find_metadata("msmcl:format") != std::optional<std::string>("sat"))
         throw msmcl::input_error(a.table + ": not a summed-area table (R32G32B32A32_UINT, msmcl:format sat)");
-    const std::optional<std::string> kernel_text = image.find_metadata("msmcl:maxKernelTexels");
-    unsigned long max_kernel = 0;
-    try {
-        max_kernel = kernel_text ? std::stoul(*kernel_text) : 0;
-    } catch (const std::exception&) {
-    }
-    if (max_kernel < msmcl::sat_min_kernel_texels || max_kernel > msmcl::sat_max_kernel_texels)
-        throw msmcl::input_error(a.table + ": missing or invalid msmcl:maxKernelTexels");
+    // N, msmcl:scale and the record checked as msmcl checks them.
+    const std::uint32_t max_kernel = msmcl::io::sat_max_kernel_of(image, a.table, std::nullopt, "KTX2");
+    (void)msmcl::io::texture_info_of(image, a.table);
     msmcl::SoftShadowLimits limits;
     try {
         limits = msmcl::soft_shadow_limits(static_cast<std::uint32_t>(max_kernel), options);

@@ -1,5 +1,6 @@
 #include "cli/batch.hpp"
 #include "cli/batch_list.hpp"
+#include "cli/file_checks.hpp"
 #include "cli/progress.hpp"
 #include "cli/texture_files.hpp"
 
@@ -146,7 +147,7 @@ public:
             if (reports_[i].outcome == Outcome::pending) {
                 reports_[i].outcome = Outcome::failed;
                 reports_[i].error = jobs_[i].input + ": not processed: " + failures[i % contexts.size()];
-                std::fprintf(stderr, "msmcl: %s\n", reports_[i].error.c_str());
+                std::fprintf(stderr, "msmcl: %s\n", io::shorten_long_names(reports_[i].error).c_str());
             }
         progress_ = nullptr;
         seconds_ = milliseconds_between(start_, Clock::now()) / 1000.0;
@@ -315,7 +316,7 @@ private:
         // No newline may stay inside the line (build logs): one line per file. Printed
         // without holding mutex_, which the progress line's text takes.
         std::replace(line.begin(), line.end(), '\n', ' ');
-        progress_->print(line);
+        progress_->print(io::shorten_long_names(line));
     }
 
     /// "msmcl: filter [#####...............] 6/24 files, 31.5 MB/s, ETA 9 s".
@@ -354,6 +355,9 @@ private:
 
 /// The single-file form: read, device setup, the command's stages, write; errors thrown.
 void run_one(const GlobalArguments& global, const MapJob& job) {
+    // The output is no spelling of the input, and can be written, before any work.
+    check_distinct_files({{job.input, NamedFile::Role::input}, {job.output, NamedFile::Role::output}});
+    check_output_path(job.output, false);
     Stages stages(global.verbose, global.verbose ? 7 : 4);
     // Read and validate the depth map and its translucent layers (layer<k>.Z, layer<k>.A).
     const io::TranslucentDepth layered =
@@ -432,6 +436,10 @@ void run_array(const GlobalArguments& global, const BatchArguments& batch, const
                           ": an OpenEXR texture holds one map; write a texture array as .ktx2 (layerCount) or .dds "
                           "(arraySize)");
     const MapJob job = command.make_job(BatchEntry{batch.paths.front(), batch.array, {}, true});
+    std::vector<NamedFile> files{{batch.array, NamedFile::Role::output}};
+    for (const std::string& input : batch.paths) files.push_back({input, NamedFile::Role::input});
+    check_distinct_files(files);
+    check_output_path(batch.array, false);
 
     Stages stages(global.verbose, global.verbose ? 7 : 4);
     // Read every input and stack them as the layers of one depth map.
@@ -451,24 +459,38 @@ void run_array(const GlobalArguments& global, const BatchArguments& batch, const
 } // namespace
 
 void add_batch_options(CLI::App& command, BatchArguments& batch) {
-    command.add_option("paths", batch.paths, "IN OUT (one file), or the inputs IN... of a batch with -o DIR");
+    // An empty value is a mistake (an unset shell variable), never "not given".
+    const auto not_empty = [](const char* what) {
+        return CLI::Validator(
+            [what](const std::string& value) {
+                return value.empty() ? std::string(what) + ", got an empty value" : std::string();
+            },
+            "", "NOT_EMPTY");
+    };
+    command.add_option("paths", batch.paths,
+                       "IN OUT (one file), or the inputs IN... of a batch with -o DIR; - is standard input or output");
     command.add_option("-o,--output-dir", batch.output_dir,
                        "batch: write DIR/<input name>.<container> for each input (DIR is created)")
-        ->type_name("DIR");
+        ->type_name("DIR")
+        ->check(not_empty("-o needs a folder"));
     command.add_option("--list", batch.list,
-                       "batch: inputs from FILE, one per line, or a JSON manifest (an array of inputs or of objects "
-                       "with \"input\", \"output\" and per-file options)")
-        ->type_name("FILE");
+                       "batch: inputs from FILE (- for standard input), one per line, or a JSON manifest (an array "
+                       "of inputs or of objects with \"input\", \"output\" and per-file options)")
+        ->type_name("FILE")
+        ->check(not_empty("--list needs a file or -"));
     command.add_option("--shard", batch.shard,
                        "batch: take only the files at positions p with p % N == I (0 <= I < N), for job arrays")
-        ->type_name("I/N");
+        ->type_name("I/N")
+        ->check(not_empty("--shard must be I/N with 0 <= I < N"));
     command.add_option("--json", batch.json, "batch: write a JSON summary (per file: status, error, bytes, ms) to FILE, "
                                              "or - for stdout")
-        ->type_name("FILE");
+        ->type_name("FILE")
+        ->check(not_empty("--json needs a file or -"));
     command.add_option("--array", batch.array,
                        "write the inputs IN... as the layers of one texture array (KTX2 or DDS), in one call; all "
                        "inputs of one size and sample count")
-        ->type_name("FILE");
+        ->type_name("FILE")
+        ->check(not_empty("--array needs a file"));
 }
 
 std::string entry_option(const BatchEntry& entry, const std::string& key, const std::string& fallback) {
@@ -500,10 +522,12 @@ int run_map_command(const GlobalArguments& global, const BatchArguments& batch, 
     const Shard shard = batch.shard.empty() ? Shard{} : parse_shard(batch.shard);
     if (!batch.json.empty() && batch.json != "-" && !fs::path(batch.json).has_filename())
         throw usage_error("--json needs a file name or -, got '" + batch.json + "'");
-    std::vector<MapJob> mine = shard_jobs(batch_jobs(batch, command), shard);
+    std::vector<MapJob> all = batch_jobs(batch, command);
+    check_output_folders(batch, all);
+    std::vector<MapJob> mine = shard_jobs(std::move(all), shard);
 
-    // The output folders, then one Context per device (one program build each).
-    create_output_folders(batch.output_dir, mine);
+    // One Context per device (one program build each), then the output folders: a run
+    // refused before any map is read creates nothing.
     std::vector<Context> contexts;
     // An empty shard sets up no device.
     const std::vector<DeviceSelection> selections =
@@ -518,6 +542,7 @@ int run_map_command(const GlobalArguments& global, const BatchArguments& batch, 
         }
     }
 
+    create_output_folders(batch, mine);
     Batch run(command.name, std::move(mine), global.verbose);
     run.run(contexts);
 

@@ -1,13 +1,13 @@
 #include "cli/batch_list.hpp"
+#include "cli/batch_list_text.hpp"
 
+#include "cli/file_checks.hpp"
 #include "cli/option_values.hpp"
 
 #include "io/atomic_file.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -18,78 +18,16 @@ namespace msmcl::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
-/// Largest list or manifest read (a line per file: millions of files).
+/// Largest list or manifest read (a line per file: millions of files), fixed.
 constexpr std::uint64_t max_list_bytes = 256ull << 20;
 
-/// A manifest value as option text: strings as written, numbers as JSON writes them
-/// (the shortest text that reads back to the same number).
-std::string option_text(const json& value, const std::string& where) {
-    if (value.is_string()) return value.get<std::string>();
-    if (value.is_number()) return value.dump();
-    throw input_error(where + " must be a string or a number");
-}
-
-/// A JSON manifest: an array of entries, each an input path or an object with "input",
-/// optionally "output" and the command's options.
-std::vector<BatchEntry> parse_manifest(const std::string& path, const std::string& text, const MapCommand& command) {
-    json manifest;
-    try {
-        manifest = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw input_error(path + ": not a valid JSON manifest: " + e.what());
-    }
-    if (!manifest.is_array()) throw input_error(path + ": a manifest is a JSON array of entries");
-    std::vector<BatchEntry> entries;
-    for (std::size_t i = 0; i < manifest.size(); ++i) {
-        const json& item = manifest[i];
-        const std::string where = path + ": entry " + std::to_string(i);
-        BatchEntry entry;
-        if (item.is_string()) {
-            entry.input = item.get<std::string>();
-        } else if (item.is_object()) {
-            for (auto it = item.begin(); it != item.end(); ++it) {
-                const std::string& key = it.key();
-                if (key == "input") entry.input = option_text(it.value(), where + " \"input\"");
-                else if (key == "output") entry.output = option_text(it.value(), where + " \"output\"");
-                else if (key == "samples") entry.options[key] = option_text(it.value(), where + " \"samples\"");
-                else if (std::find(command.manifest_keys.begin(), command.manifest_keys.end(), key) !=
-                         command.manifest_keys.end())
-                    entry.options[key] = option_text(it.value(), where + " \"" + key + "\"");
-                else {
-                    std::string known = "input, output, samples";
-                    for (const std::string& name : command.manifest_keys) known += ", " + name;
-                    throw input_error(where + ": unknown key \"" + key + "\" for msmcl " + command.name + " (keys: " +
-                                      known + ")");
-                }
-            }
-        } else {
-            throw input_error(where + ": an entry is an input path or an object with \"input\"");
-        }
-        if (entry.input.empty()) throw input_error(where + ": no \"input\"");
-        entries.push_back(std::move(entry));
-    }
-    return entries;
-}
-
-/// --list FILE: a JSON manifest when its first non-blank character is '[', else one input
-/// per line (blank lines and lines starting with '#' skipped).
+/// --list FILE (`-`: standard input), parsed by parse_batch_list.
 std::vector<BatchEntry> read_list(const std::string& path, const MapCommand& command) {
-    const std::string text = io::read_whole_file(path, max_list_bytes);
-    const std::size_t first = text.find_first_not_of(" \t\r\n");
-    if (first != std::string::npos && text[first] == '[') return parse_manifest(path, text, command);
-    std::vector<BatchEntry> entries;
-    std::size_t start = 0;
-    while (start < text.size()) {
-        std::size_t end = text.find('\n', start);
-        if (end == std::string::npos) end = text.size();
-        std::string line = text.substr(start, end - start);
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        if (!line.empty() && line[0] != '#') entries.push_back(BatchEntry{line, "", {}});
-        start = end + 1;
-    }
-    return entries;
+    // The limit is fixed: longer lists are split (or sharded).
+    const std::string text =
+        io::read_input_file(path, {max_list_bytes, "fixed for lists: split a longer one", "", ""});
+    return parse_batch_list(path, text, command.manifest_keys, command.name);
 }
 
 /// DIR/<the input's file name, its extension replaced by the output container's>.
@@ -101,21 +39,15 @@ std::string derived_output(const std::string& directory, const BatchEntry& entry
     return (fs::path(directory) / (stem + "." + (container.empty() ? std::string("exr") : container))).string();
 }
 
-/// A path as a key for comparing files: absolute and without "." and "..".
-std::string path_key(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
-
-/// Refuses a batch where two files would write one output, or an output would replace an input.
-void check_outputs(const std::vector<MapJob>& jobs) {
-    std::map<std::string, const MapJob*> writer_of, inputs;
-    for (const MapJob& job : jobs) inputs.emplace(path_key(job.input), &job);
-    for (const MapJob& job : jobs) {
-        const std::string key = path_key(job.output);
-        const auto [where, fresh] = writer_of.emplace(key, &job);
-        if (!fresh)
-            throw usage_error(job.output + ": written for both " + where->second->input + " and " + job.input +
-                              " (give one of them an \"output\" in a manifest)");
-        if (inputs.count(key)) throw usage_error(job.output + ": an output would replace the input of the batch");
-    }
+/// Refuses a batch where two files would write one output, or where an output, the
+/// summary or the list is one of the inputs or another of them (by identity, not spelling).
+void check_outputs(const BatchArguments& batch, const std::vector<MapJob>& jobs) {
+    std::vector<NamedFile> files;
+    for (const MapJob& job : jobs) files.push_back({job.input, NamedFile::Role::input});
+    for (const MapJob& job : jobs) files.push_back({job.output, NamedFile::Role::output, job.input});
+    if (!batch.json.empty()) files.push_back({batch.json, NamedFile::Role::summary});
+    if (!batch.list.empty()) files.push_back({batch.list, NamedFile::Role::list});
+    check_distinct_files(files);
 }
 
 /// The files of a batch in list order: the positional inputs, then the list's entries.
@@ -169,7 +101,7 @@ std::vector<MapJob> batch_jobs(const BatchArguments& batch, const MapCommand& co
             throw usage_error(entry.options.empty() ? e.what() : entry.input + ": " + e.what());
         }
     }
-    check_outputs(jobs);
+    check_outputs(batch, jobs);
     return jobs;
 }
 
@@ -179,16 +111,22 @@ std::vector<MapJob> shard_jobs(std::vector<MapJob> jobs, Shard shard) {
     return mine;
 }
 
-void create_output_folders(const std::string& output_dir, const std::vector<MapJob>& jobs) {
+void check_output_folders(const BatchArguments& batch, const std::vector<MapJob>& jobs) {
+    for (const MapJob& job : jobs) check_output_path(job.output, true);
+    if (!batch.json.empty() && batch.json != "-") check_output_path(batch.json, true);
+}
+
+void create_output_folders(const BatchArguments& batch, const std::vector<MapJob>& jobs) {
     std::set<fs::path> folders;
-    if (!output_dir.empty()) folders.insert(output_dir);
+    if (!batch.output_dir.empty()) folders.insert(batch.output_dir);
     for (const MapJob& job : jobs) folders.insert(fs::path(job.output).parent_path());
+    if (!batch.json.empty() && batch.json != "-") folders.insert(fs::path(batch.json).parent_path());
     for (const fs::path& folder : folders) {
         if (folder.empty()) continue;
         std::error_code error;
         fs::create_directories(folder, error);
         if (!fs::is_directory(folder))
-            throw input_error(folder.string() + ": cannot create the output folder" +
+            throw input_error(io::display_name(folder.string()) + ": cannot create the output folder" +
                               (error ? ": " + error.message() : std::string()));
     }
 }

@@ -25,14 +25,20 @@ Shard parse_shard(const std::string& text);
 
 /// Every file of the batch, in list order, as a job of `command`: options checked, output
 /// named. Throws usage_error (bad option values, no output, two files writing one output,
-/// an output replacing an input) or input_error (an unreadable list, a bad manifest).
+/// an output, the --json summary or the list being an input or another of them) or
+/// input_error (an unreadable list, a bad manifest, a NUL in a path).
 std::vector<MapJob> batch_jobs(const BatchArguments& batch, const MapCommand& command);
 
 /// The jobs at positions p with p % N == I, in list order.
 std::vector<MapJob> shard_jobs(std::vector<MapJob> jobs, Shard shard);
 
-/// Creates `output_dir` (when given) and the folder of every output; input_error naming the
-/// folder that cannot be made.
-void create_output_folders(const std::string& output_dir, const std::vector<MapJob>& jobs);
+/// Refuses (input_error naming the output) an output or --json file of `jobs` that could not
+/// be written: a directory or block device, a symlink loop, a folder that cannot be created
+/// or written. Creates nothing.
+void check_output_folders(const BatchArguments& batch, const std::vector<MapJob>& jobs);
+
+/// Creates -o DIR (when given), the folder of every output and of the --json file;
+/// input_error naming the folder that cannot be made.
+void create_output_folders(const BatchArguments& batch, const std::vector<MapJob>& jobs);
 
 } // namespace msmcl::cli

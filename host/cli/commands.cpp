@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "cli/file_checks.hpp"
 #include "cli/batch.hpp"
 #include "cli/option_values.hpp"
 #include "cli/stages.hpp"
@@ -117,6 +118,11 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
             throw usage_error("unknown --format '" + arguments.format + "' (expected moments128, msm64, nlq64 or nlq32)");
     }
     require_exr_output(arguments.output);
+    // The output is no spelling of an input, and can be written, before any work.
+    check_distinct_files({{arguments.map, NamedFile::Role::input},
+                          {arguments.receivers, NamedFile::Role::input},
+                          {arguments.output, NamedFile::Role::output}});
+    check_output_path(arguments.output, false);
     Stages stages(global.verbose, global.verbose ? 7 : 4);
 
     // Read the map (EXR, KTX2 or DDS) and the receivers; the receivers' depth follows the

@@ -332,11 +332,8 @@ json describe_png(const std::string& path, const std::string& bytes) {
 
 json describe(const std::string& path, DepthRange depth_range) {
     // The first bytes tell PNG and JSON apart from the texture containers.
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw input_error(path + ": cannot open");
-    std::string head(64, '\0');
-    file.read(head.data(), static_cast<std::streamsize>(head.size()));
-    head.resize(static_cast<std::size_t>(file.gcount()));
+    // A regular file or standard input only: a FIFO or device is refused, not waited on.
+    const std::string head = io::read_file_head(path, 64);
     json info;
     if (head.size() >= 8 && head.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0) {
         info = describe_png(path, head);

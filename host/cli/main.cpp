@@ -42,7 +42,7 @@ std::string one_line(std::string text) {
 }
 
 int report(const std::string& problem, int exit_code) {
-    std::cerr << "msmcl: " << one_line(problem) << std::endl;
+    std::cerr << "msmcl: " << one_line(msmcl::io::shorten_long_names(problem)) << std::endl;
     return exit_code;
 }
 

@@ -3,16 +3,16 @@
 #include "io/dds.hpp"
 #include "io/gpu_image.hpp"
 #include "io/ktx2.hpp"
+#include "io/texture_metadata.hpp"
+#include "io/atomic_file.hpp"
 
 #include <msmcl/errors.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 
 namespace msmcl::cli {
 namespace {
@@ -37,40 +37,6 @@ std::optional<Container> container_of_extension(const std::string& path) {
     if (extension == ".ktx2") return Container::ktx2;
     if (extension == ".dds") return Container::dds;
     return std::nullopt;
-}
-
-/// The value of KTX2 key `key` as a whole number in [lowest, highest], if present.
-std::optional<long long> metadata_integer(const io::GpuImage& image, const std::string& path, const char* key,
-                                          long long lowest, long long highest) {
-    const std::optional<std::string> text = image.find_metadata(key);
-    if (!text) return std::nullopt;
-    char* end = nullptr;
-    errno = 0;
-    const long long value = std::strtoll(text->c_str(), &end, 10);
-    if (text->empty() || end != text->c_str() + text->size() || errno == ERANGE || value < lowest || value > highest)
-        fail(path, std::string("key ") + key + " is '" + *text + "', not a whole number in [" +
-                       std::to_string(lowest) + ", " + std::to_string(highest) + "]");
-    return value;
-}
-
-/// The record of a filtered map kept in KTX2 key/value data; defaults where a key is absent.
-io::TextureInfo info_of(const io::GpuImage& image, const std::string& path) {
-    io::TextureInfo info;
-    if (const std::optional<std::string> sigma = image.find_metadata("msmcl:sigma")) {
-        char* end = nullptr;
-        const float value = std::strtof(sigma->c_str(), &end);
-        if (sigma->empty() || end != sigma->c_str() + sigma->size() || !(value >= 0.0f) || value > 1e30f)
-            fail(path, "key msmcl:sigma is '" + *sigma + "', not a sigma >= 0");
-        info.sigma = value;
-    }
-    if (const std::optional<long long> samples = metadata_integer(image, path, "msmcl:samples", 1, 16))
-        info.samples = static_cast<int>(*samples);
-    if (const std::optional<std::string> range = image.find_metadata("msmcl:depthRange")) {
-        const std::optional<DepthRange> parsed = parse_depth_range(*range);
-        if (!parsed) fail(path, "key msmcl:depthRange is '" + *range + "', expected 0,1 or -1,1");
-        info.depth_range = *parsed;
-    }
-    return info;
 }
 
 io::GpuImage read_gpu_image(const std::string& path, Container container) {
@@ -114,11 +80,11 @@ void require_exr_output(const std::string& path) {
 }
 
 Container sniff_container(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) fail(path, "cannot open");
+    // The first bytes alone, of a regular file or standard input (never waiting on a FIFO).
+    const std::string bytes = io::read_file_head(path, 12);
     std::array<unsigned char, 12> head{};
-    file.read(reinterpret_cast<char*>(head.data()), head.size());
-    const std::size_t got = static_cast<std::size_t>(file.gcount());
+    std::copy(bytes.begin(), bytes.end(), head.begin());
+    const std::size_t got = bytes.size();
     // OpenEXR magic 76 2f 31 01; KTX2 identifier AB 4B 54 58 20 32 30 BB; DDS "DDS ".
     if (got >= 4 && head[0] == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01) return Container::exr;
     static const unsigned char ktx2[8] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB};
@@ -160,7 +126,7 @@ io::TextureFile read_texture_file(const std::string& path, std::optional<Format>
         fail(path, "holds a texture array of " + std::to_string(image.layers) + " layers, expected one 2D texture");
     io::TextureFile file;
     file.texture = io::texture_of(image, recorded.value_or(format.value_or(Format::nlq64)), path);
-    file.info = info_of(image, path);
+    file.info = io::texture_info_of(image, path);
     return file;
 }
 
@@ -203,24 +169,13 @@ io::SatFile read_sat_file(const std::string& path, std::optional<std::uint32_t> 
             fail(path, "key msmcl:format is '" + *kind + "', not sat");
         if (image.layers != 1 || image.array) fail(path, "holds a texture array, expected one 2D texture");
         // N: the record (KTX2), else what the user said (DDS keeps none).
-        const std::optional<long long> recorded = metadata_integer(image, path, "msmcl:maxKernelTexels",
-                                                                   sat_min_kernel_texels, sat_max_kernel_texels);
-        if (!recorded && !max_kernel)
-            fail(path, std::string(container_name(container)) +
-                           " file records no largest kernel N: say it with --max-kernel N (as given to msmcl sat)");
-        if (recorded && max_kernel && static_cast<std::uint32_t>(*recorded) != *max_kernel)
-            fail(path, "records N = " + std::to_string(*recorded) + ", --max-kernel says " + std::to_string(*max_kernel));
-        file.table.max_kernel_texels = recorded ? static_cast<std::uint32_t>(*recorded) : *max_kernel;
+        file.table.max_kernel_texels = io::sat_max_kernel_of(image, path, max_kernel, container_name(container));
         file.table.scale = sat_scale(file.table.max_kernel_texels);
-        if (const std::optional<long long> scale = metadata_integer(image, path, "msmcl:scale", 1, 0xffffffffll);
-            scale && static_cast<std::uint32_t>(*scale) != file.table.scale)
-            fail(path, "key msmcl:scale is " + std::to_string(*scale) + "; N = " +
-                           std::to_string(file.table.max_kernel_texels) + " needs " + std::to_string(file.table.scale));
         file.table.width = image.width;
         file.table.height = image.height;
         file.table.words.resize(image.bytes.size() / sizeof(std::uint32_t));
         if (!image.bytes.empty()) std::copy_n(image.bytes.data(), image.bytes.size(), reinterpret_cast<unsigned char*>(file.table.words.data()));
-        const io::TextureInfo info = info_of(image, path);
+        const io::TextureInfo info = io::texture_info_of(image, path);
         file.info.samples = info.samples;
         file.info.depth_range = info.depth_range;
     }

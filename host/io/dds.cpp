@@ -104,8 +104,9 @@ GpuImage decode_dds(const std::vector<std::uint8_t>& bytes, const std::string& n
     image.layers = static_cast<int>(layers);
     image.array = layers > 1;
     const std::size_t needed = image.expected_bytes();
-    if (bytes.size() - kDataOffset < needed)
-        throw input_error(name + ": truncated DDS file: " + std::to_string(bytes.size() - kDataOffset) +
+    // Exactly the texels the header describes: more means the header is not the image's.
+    if (bytes.size() - kDataOffset != needed)
+        throw input_error(name + ": " + std::string(bytes.size() - kDataOffset < needed ? "truncated DDS file: " : "DDS file of the wrong size: ") + std::to_string(bytes.size() - kDataOffset) +
                           " bytes of texels, a " + std::to_string(width) + "x" + std::to_string(height) + " " +
                           gpu_format_info(*format).name + " image of " + std::to_string(layers) + " layers needs " +
                           std::to_string(needed));
@@ -124,7 +125,8 @@ void write_dds(const std::string& path, const GpuImage& image) {
 }
 
 GpuImage read_dds(const std::string& path) {
-    const std::string content = read_whole_file(path, image_limits().max_bytes);
+    // The magic before the rest: a file of another kind is refused unread.
+    const std::string content = read_input_file(path, {image_limits().max_bytes, "MSMCL_MAX_BYTES", "DDS ", "a DDS file"});
     return decode_dds(std::vector<std::uint8_t>(content.begin(), content.end()), path);
 }
 

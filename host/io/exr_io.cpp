@@ -280,7 +280,9 @@ class ExrReader {
 public:
     explicit ExrReader(const std::string& path) : path_(path) {
         // Load the bytes and look at the magic number before OpenEXR does.
-        std::string bytes = read_whole_file(path, image_limits().max_bytes);
+        // (a file of another kind is refused after its first four bytes, not read whole).
+        std::string bytes = read_input_file(path, {image_limits().max_bytes, "MSMCL_MAX_BYTES",
+                                                   std::string("\x76\x2f\x31\x01", 4), "an OpenEXR file"});
         const std::uint64_t file_bytes = bytes.size();
         if (bytes.size() < 4 || !Imf::isImfMagic(bytes.data())) fail(path, "not an OpenEXR file");
 

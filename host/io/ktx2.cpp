@@ -247,6 +247,14 @@ GpuImage decode_ktx2(const std::vector<std::uint8_t>& bytes, const std::string& 
                           std::to_string(image.layers) + " layers needs " + std::to_string(image.expected_bytes()));
     if (level_offset % std::lcm<std::uint64_t>(info.texel_bytes, 4) != 0)
         throw input_error(name + ": level 0 is not aligned");
+    // The texels follow the header, the level index, the descriptor and the key/value data
+    // (KTX 2.0 section 3: file structure); data overlapping them is no image.
+    const std::uint64_t indexes_end = std::max({std::uint64_t(kHeaderBytes + kLevelIndexBytes),
+                                                std::uint64_t(dfd_offset) + dfd_length,
+                                                std::uint64_t(kvd_offset) + kvd_length});
+    if (level_offset < indexes_end)
+        throw input_error(name + ": level 0 starts at byte " + std::to_string(level_offset) +
+                          ", inside the header and its indexes (which end at byte " + std::to_string(indexes_end) + ")");
     in.need(level_offset, level_length, "level 0");
     image.bytes.assign(bytes.begin() + static_cast<std::ptrdiff_t>(level_offset),
                        bytes.begin() + static_cast<std::ptrdiff_t>(level_offset + level_length));
@@ -264,7 +272,10 @@ void write_ktx2(const std::string& path, const GpuImage& image) {
 }
 
 GpuImage read_ktx2(const std::string& path) {
-    const std::string content = read_whole_file(path, image_limits().max_bytes);
+    // The identifier before the rest: a file of another kind is refused unread.
+    const std::string content =
+        read_input_file(path, {image_limits().max_bytes, "MSMCL_MAX_BYTES",
+                               std::string(reinterpret_cast<const char*>(kIdentifier), sizeof kIdentifier), "a KTX2 file"});
     return decode_ktx2(std::vector<std::uint8_t>(content.begin(), content.end()), path);
 }
 

@@ -1,6 +1,7 @@
 // Scene files of `msmcl scatter` (format: data/scatter/README.md), parsed with nlohmann-json
 // (the validation of a ScatterScene is the library's: validate_scatter_scene).
 #include "io/scene_json.hpp"
+#include "io/atomic_file.hpp"
 
 #include <msmcl/errors.hpp>
 
@@ -21,7 +22,7 @@ using nlohmann::json;
 /// Deepest nesting of arrays and objects a scene file may have (the format needs 3).
 constexpr int max_json_depth = 64;
 /// Largest scene file read (a scene is a few hundred bytes).
-constexpr std::streamoff max_scene_bytes = 16 << 20;
+constexpr std::uint64_t max_scene_bytes = 16 << 20;
 
 /// A value for an error message: scalars as written, containers by kind and size only
 /// (printing a container would recurse through all of it).
@@ -217,19 +218,11 @@ ScatterScene parse_scatter_scene(const std::string& json_text) {
 }
 
 ScatterScene load_scatter_scene(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw input_error(path + ": cannot open the scene file");
-    // A scene is a few hundred bytes; refuse anything absurdly large before reading it.
-    file.seekg(0, std::ios::end);
-    const std::streamoff size = file.tellg();
-    if (size > max_scene_bytes)
-        throw input_error(path + ": the scene file is larger than " + std::to_string(max_scene_bytes) + " bytes");
-    file.seekg(0);
-    std::ostringstream text;
-    text << file.rdbuf();
-    if (file.bad()) throw input_error(path + ": cannot read the scene file");
+    // A scene is a few hundred bytes; refuse anything absurdly large before reading it (and
+    // anything but a regular file or standard input, which could make the read wait).
+    const std::string text = io::read_input_file(path, {max_scene_bytes, "fixed for scene files", "", ""});
     try {
-        return parse_scatter_scene(text.str());
+        return parse_scatter_scene(text);
     } catch (const input_error& e) {
         throw input_error(path + ": " + e.what());
     } catch (const json::exception& e) { // any JSON error the parsing above did not translate

@@ -8,10 +8,13 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <sstream>
+#include <atomic>
+#include <chrono>
+#include <fcntl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
@@ -64,11 +67,41 @@ std::string explain_silent_build_failure(const std::string& log) {
 constexpr char kMagic[8] = {'M', 'S', 'M', 'C', 'L', 'B', 'I', 'N'};
 constexpr std::size_t kHeaderBytes = sizeof kMagic + 16; // magic, byte count, FNV-1a of the bytes
 
-// A cached binary; empty when absent, unreadable, truncated or damaged.
+/// Largest cache entry read: compiled programs are a few MiB; anything larger is no entry.
+constexpr std::uint64_t kMaxEntryBytes = 256ull << 20;
+
+/// What a cache name holds.
+enum class EntryState { absent, regular, other };
+
+/// Looks at `path` without following a symlink or opening it.
+EntryState entry_state(const std::string& path) {
+    struct stat status {};
+    if (::lstat(path.c_str(), &status) != 0) return errno == ENOENT ? EntryState::absent : EntryState::other;
+    return S_ISREG(status.st_mode) && static_cast<std::uint64_t>(status.st_size) <= kMaxEntryBytes ? EntryState::regular
+                                                                                                   : EntryState::other;
+}
+
+// A cached binary; empty when absent, not a regular file (a folder, a symlink, a FIFO), too
+// large, unreadable, truncated or damaged. Never waits on what the name holds.
 std::vector<unsigned char> read_binary(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return {};
-    const std::string content{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const int descriptor = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (descriptor < 0) return {};
+    std::string content;
+    struct stat status {};
+    if (::fstat(descriptor, &status) == 0 && S_ISREG(status.st_mode) &&
+        static_cast<std::uint64_t>(status.st_size) <= kMaxEntryBytes) {
+        // At most the size it had when opened.
+        content.resize(static_cast<std::size_t>(status.st_size));
+        std::size_t got = 0;
+        while (got < content.size()) {
+            const ssize_t count = ::read(descriptor, content.data() + got, content.size() - got);
+            if (count < 0 && errno == EINTR) continue;
+            if (count <= 0) break;
+            got += static_cast<std::size_t>(count);
+        }
+        content.resize(got);
+    }
+    ::close(descriptor);
     if (content.size() < kHeaderBytes || content.compare(0, sizeof kMagic, kMagic, sizeof kMagic) != 0) return {};
     std::uint64_t size = 0, hash = 0;
     std::memcpy(&size, content.data() + sizeof kMagic, 8);
@@ -78,28 +111,46 @@ std::vector<unsigned char> read_binary(const std::string& path) {
     return {bytes.begin(), bytes.end()};
 }
 
-// Stores a binary atomically (a unique temporary file, then rename); a failure only
-// loses the cache entry.
+/// A temporary name in `directory` of one short length (random per process and call).
+std::string temporary_entry_name(const std::string& directory) {
+    static std::atomic<std::uint64_t> counter{0};
+    std::uint64_t bits = fnv1a64(std::to_string(::getpid()) + ':' + std::to_string(counter++) + ':' +
+                                 std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    static const char digits[] = "0123456789abcdefghijklmnopqrstuv";
+    std::string name = directory + "/.msmcl-";
+    for (int i = 0; i < 10; ++i, bits >>= 5) name += digits[bits & 31];
+    return name + ".tmp";
+}
+
+// Stores a binary atomically (a temporary file of its own, then rename); a failure only
+// loses the cache entry, never the call.
 void write_binary(const std::string& path, const std::vector<unsigned char>& binary) {
-    static std::atomic<unsigned> counter{0};
-    const std::string temporary =
-        path + "." + std::to_string(static_cast<long>(::getpid())) + "." + std::to_string(counter++) + ".tmp";
+    const std::string directory = path.substr(0, path.find_last_of('/'));
+    const std::string temporary = temporary_entry_name(directory);
     const std::string bytes(binary.begin(), binary.end());
     const std::uint64_t size = bytes.size(), hash = fnv1a64(bytes);
-    {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        if (!out) return;
-        out.write(kMagic, sizeof kMagic);
-        out.write(reinterpret_cast<const char*>(&size), 8);
-        out.write(reinterpret_cast<const char*>(&hash), 8);
-        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-        out.close();
-        if (!out) {
-            std::remove(temporary.c_str());
-            return;
-        }
+    std::string content(kMagic, sizeof kMagic);
+    content.append(reinterpret_cast<const char*>(&size), 8);
+    content.append(reinterpret_cast<const char*>(&hash), 8);
+    content += bytes;
+    const int descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (descriptor < 0) return;
+    std::size_t written = 0;
+    while (written < content.size()) {
+        const ssize_t count = ::write(descriptor, content.data() + written, content.size() - written);
+        if (count < 0 && errno == EINTR) continue;
+        if (count <= 0) break;
+        written += static_cast<std::size_t>(count);
     }
-    if (std::rename(temporary.c_str(), path.c_str()) != 0) std::remove(temporary.c_str());
+    const bool complete = ::close(descriptor) == 0 && written == content.size();
+    if (!complete || std::rename(temporary.c_str(), path.c_str()) != 0) std::remove(temporary.c_str());
+}
+
+/// The names an entry may have: `path`, then fresh ones for when a name holds something that
+/// is no cache entry (a folder, a symlink, a FIFO), which is left alone.
+std::vector<std::string> entry_names(const std::string& path) {
+    const std::string stem = path.substr(0, path.size() - 4); // without ".bin"
+    return {path, stem + "-1.bin", stem + "-2.bin", stem + "-3.bin"};
 }
 
 } // namespace
@@ -147,8 +198,18 @@ cl::Program ProgramCache::build(const cl::Context& context, const cl::Device& de
     cl_int status = CL_SUCCESS;
     // A binary from the disk cache, if one was stored for this very device and driver.
     const std::string path = disk_directory.empty() ? std::string() : disk_path(disk_directory, device, source, options);
-    if (!path.empty()) {
-        std::vector<unsigned char> binary = read_binary(path);
+    // The first of its names that is a regular file is the entry; names holding anything
+    // else are passed over (and the binary is stored under the next free one).
+    std::string entry;
+    if (!path.empty())
+        for (const std::string& name : entry_names(path)) {
+            const EntryState state = entry_state(name);
+            if (state == EntryState::other) continue;
+            entry = name;
+            break;
+        }
+    if (!entry.empty()) {
+        std::vector<unsigned char> binary = read_binary(entry);
         if (!binary.empty()) {
             cl::Program::Binaries binaries{binary};
             cl::Program cached(context, devices, binaries, nullptr, &status);
@@ -167,11 +228,11 @@ cl::Program ProgramCache::build(const cl::Context& context, const cl::Device& de
         throw opencl_error(status, "clBuildProgram", label);
     }
     ++programs_built_;
-    if (!path.empty()) {
+    if (!entry.empty()) {
         std::vector<std::vector<unsigned char>> binaries;
         if (program.getInfo(CL_PROGRAM_BINARIES, &binaries) == CL_SUCCESS && binaries.size() == 1 &&
             !binaries[0].empty())
-            write_binary(path, binaries[0]);
+            write_binary(entry, binaries[0]);
     }
     return program;
 }
