@@ -21,7 +21,12 @@ int main() try {
     }
     cl_int status = CL_SUCCESS;
     cl_context engine_context = clCreateContext(nullptr, 1, &device, nullptr, nullptr, &status);
+    // The engine's own OpenCL version decides its calls (msmcl's headers need 1.2 only).
+#if CL_TARGET_OPENCL_VERSION >= 200
+    cl_command_queue engine_queue = clCreateCommandQueueWithProperties(engine_context, device, nullptr, &status);
+#else
     cl_command_queue engine_queue = clCreateCommandQueue(engine_context, device, 0, &status);
+#endif
 
     // msmcl borrows them (and retains what it keeps).
     msmcl::Context msm(engine_context, device, engine_queue);

@@ -13,6 +13,8 @@ packages=(
   oclgrind
   mesa-vulkan-drivers libvulkan-dev spirv-tools
   strace
+  # The man page msmcl(1), generated from the CLI's --help at build time.
+  help2man man-db
   # Sanitizer builds and libFuzzer (scripts/ci-sanitize.sh, scripts/ci-fuzz.sh): clang-15 below.
   libclang-common-15-dev
   assimp-testmodels

@@ -1,7 +1,9 @@
-// Command-line conventions of msmcl, run as processes: an unknown subcommand or option is
-// named with a "did you mean" suggestion (exit 2, one line); --verbose prints a timing line
-// per stage and changes no output byte; the progress line appears on a terminal only (a
-// pseudo-terminal the test opens with forkpty), never in a pipe or file.
+// Command-line conventions of msmcl, run as processes: an unknown subcommand, option or option
+// value is named with a "did you mean" suggestion (exit 2, one line); a bare `msmcl` prints
+// the usage and the commands (exit 2); -v/--verbose prints a timing line per stage and
+// changes no output byte; -q/--quiet leaves only errors on stderr; the progress line appears
+// on a terminal only (a pseudo-terminal the test opens with forkpty), never in a pipe or
+// file; `msmcl --help` ends with the table of every environment variable msmcl reads.
 #include "io/atomic_file.hpp"
 #include "process.hpp"
 
@@ -11,6 +13,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <set>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -91,6 +97,58 @@ TEST_F(CliConventions, UnknownWordsAreNamedWithASuggestion) {
     expect_usage("filter a.exr b.exr", "--format is required");
 }
 
+TEST_F(CliConventions, MistypedValuesAreNamedWithTheNearestValue) {
+    expect_usage("shade m.exr r.exr y.exr --lookup bilnear",
+                 "unknown --lookup 'bilnear' (did you mean 'bilinear'? expected nearest, bilinear or dither)");
+    expect_usage("filter a.exr b.exr --format nlq46",
+                 "unknown --format 'nlq46' (did you mean 'nlq64'? expected moments128, msm64, nlq64 or nlq32)");
+    expect_usage("filter a.exr b.exr --format msm64 --kernel fused_gpu",
+                 "unknown --kernel 'fused_gpu' (did you mean 'fused_cpu'? expected automatic, fused_paper, fused_cpu "
+                 "or three_pass)");
+    expect_usage("filter a.exr b.exr --format msm64 --out-container kxt2",
+                 "unknown --out-container 'kxt2' (did you mean 'ktx2'? expected exr, ktx2 or dds)");
+    // Nothing near: the valid values alone.
+    expect_usage("shade m.exr r.exr y.exr --lookup cubic", "unknown --lookup 'cubic' (expected nearest, bilinear or dither)");
+}
+
+TEST_F(CliConventions, BareMsmclPrintsTheUsageAndTheCommands) {
+    for (const char* arguments : {"", "--device cpu", "-q"}) {
+        SCOPED_TRACE(arguments);
+        EXPECT_EQ(cli(arguments), 2);
+        const std::string usage = err();
+        EXPECT_EQ(usage.rfind("usage: msmcl [OPTIONS] COMMAND", 0), 0u) << usage;
+        for (const char* command : {"filter", "shade", "sat", "soft", "scatter", "devices", "info"})
+            EXPECT_NE(usage.find(std::string("\n  ") + command + " "), std::string::npos) << command << "\n" << usage;
+        EXPECT_EQ(out(), "");
+    }
+    EXPECT_EQ(cli("-q -v devices"), 2); // quiet and verbose exclude each other
+}
+
+// The table closing `msmcl --help` (and so the man page) and docs/environment.md name every
+// MSMCL_* variable that host/ reads (getenv, or its wrappers environment and environment_limit).
+TEST_F(CliConventions, EnvironmentTableNamesEveryVariable) {
+    ASSERT_EQ(cli("--help"), 0) << err();
+    const std::string help = out();
+    const std::string environment = help.substr(std::min(help.find("\nEnvironment:\n"), help.size()));
+    ASSERT_FALSE(environment.empty()) << help;
+    const std::string docs = msmcl::io::read_whole_file(std::string(MSMCL_SOURCE_DIR) + "/docs/environment.md");
+    const std::regex read_call(R"re((getenv|environment|environment_limit)\("(MSMCL_[A-Z_]+)")re");
+    std::set<std::string> names;
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(fs::path(MSMCL_SOURCE_DIR) / "host")) {
+        if (!entry.is_regular_file()) continue;
+        const std::string text = msmcl::io::read_whole_file(entry.path().string());
+        for (auto match = std::sregex_iterator(text.begin(), text.end(), read_call); match != std::sregex_iterator(); ++match)
+            names.insert((*match)[2]);
+    }
+    for (const char* known : {"MSMCL_DEVICE", "MSMCL_PLATFORM", "MSMCL_STRICT", "MSMCL_CACHE_DIR", "MSMCL_MAX_TEXELS",
+                              "MSMCL_MAX_BYTES", "MSMCL_CPU_TILE", "MSMCL_PROGRESS_AFTER_MS"})
+        EXPECT_EQ(names.count(known), 1u) << known << ": the source scan missed it";
+    for (const std::string& name : names) {
+        EXPECT_NE(environment.find("\n  " + name + " "), std::string::npos) << name << " missing from --help:\n" << help;
+        EXPECT_NE(docs.find("| `" + name + "` |"), std::string::npos) << name << " missing from docs/environment.md";
+    }
+}
+
 TEST_F(CliConventions, VerbosePrintsATimingLinePerStageAndChangesNoByte) {
     if (!have_device()) GTEST_SKIP() << "no OpenCL device";
     const std::string depth = data("railing_256x256_4x.exr"), view = data("railing_view_160x120.exr");
@@ -116,7 +174,7 @@ TEST_F(CliConventions, VerbosePrintsATimingLinePerStageAndChangesNoByte) {
         EXPECT_NE(shade_log.find(std::string("msmcl: ") + stage + ": "), std::string::npos) << stage << "\n" << shade_log;
 
     ASSERT_EQ(cli("sat " + depth + " " + q("sat_quiet.exr")), 0) << err();
-    ASSERT_EQ(cli("sat " + depth + " " + q("sat.exr") + " --verbose"), 0) << err();
+    ASSERT_EQ(cli("sat " + depth + " " + q("sat.exr") + " -v"), 0) << err(); // -v is --verbose
     const std::string sat_log = err();
     EXPECT_EQ(msmcl::io::read_whole_file(path("sat.exr")), msmcl::io::read_whole_file(path("sat_quiet.exr")));
     for (const char* stage : {"read", "device setup", "program", "upload", "kernel", "download", "write"})
@@ -147,6 +205,27 @@ TEST_F(CliConventions, ProgressOnlyOnATerminal) {
     ASSERT_EQ(cli("filter " + depth + " " + q("file.exr") + " --format msm64", "MSMCL_PROGRESS_AFTER_MS=0"), 0);
     EXPECT_EQ(err(), "");
     EXPECT_EQ(msmcl::io::read_whole_file(path("file.exr")), msmcl::io::read_whole_file(path("tty.exr")));
+}
+
+TEST_F(CliConventions, QuietLeavesOnlyErrorsOnStderr) {
+    if (!have_device()) GTEST_SKIP() << "no OpenCL device";
+    const std::string depth = std::string(MSMCL_SOURCE_DIR) + "/data/railing_256x256_4x.exr";
+    // On a terminal: no progress line.
+    const auto [terminal, code] = msmcl::testing::run_on_terminal(
+        {MSMCL_CLI_PATH, "-q", "filter", depth, path("tty.exr"), "--format", "msm64"}, "MSMCL_PROGRESS_AFTER_MS=0");
+    ASSERT_EQ(code, 0) << terminal;
+    EXPECT_EQ(terminal, "");
+    // A batch: no summary line, but each bad file still named; the same bytes as without -q.
+    ASSERT_EQ(cli("filter '" + depth + "' -o " + q("loud") + " --format msm64"), 0) << err();
+    EXPECT_NE(err().find("msmcl: filter: 1 file"), std::string::npos) << err();
+    ASSERT_EQ(cli("--quiet filter '" + depth + "' -o " + q("quiet") + " --format msm64"), 0) << err();
+    EXPECT_EQ(err(), "");
+    EXPECT_EQ(msmcl::io::read_whole_file(path("quiet/railing_256x256_4x.exr")),
+              msmcl::io::read_whole_file(path("loud/railing_256x256_4x.exr")));
+    EXPECT_EQ(cli("filter '" + depth + "' " + q("missing.exr") + " -o " + q("quiet") + " --format msm64 -q"), 2);
+    const std::string errors = err();
+    EXPECT_NE(errors.find(path("missing.exr") + ": cannot open"), std::string::npos) << errors;
+    EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 1) << errors;
 }
 
 } // namespace

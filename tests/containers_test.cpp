@@ -575,11 +575,19 @@ TEST_F(CliContainers, InfoDescribesEveryKindOfFile) {
     EXPECT_NE(text.find("  Z (float32): min -0.25, max 1.5, NaN 2, Inf 1, outside [0, 1] 2"), std::string::npos) << text;
     EXPECT_NE(text.find(path("map.ktx2") + ": moment shadow map, 37x29, ktx2, format nlq32"), std::string::npos) << text;
 
-    // A file that cannot be parsed: exit 2, one line naming it, nothing on stdout.
+    // Files that cannot be parsed or opened: each named in one line on stderr, every readable
+    // file still described on stdout, exit 2 at the end.
     std::system(("echo hello > " + q("text.exr")).c_str());
-    EXPECT_EQ(cli("info " + q("map.exr") + " " + q("text.exr") + " > " + q("bad.txt")), 2);
-    EXPECT_NE(err().find(path("text.exr") + ": not an OpenEXR, KTX2 or DDS file"), std::string::npos) << err();
-    EXPECT_EQ(bytes("bad.txt"), "");
+    EXPECT_EQ(cli("info " + q("text.exr") + " " + q("map.exr") + " " + q("missing.exr") + " " + q("map.ktx2") + " > " +
+                  q("bad.txt")),
+              2);
+    const std::string errors = err();
+    EXPECT_NE(errors.find("msmcl: " + path("text.exr") + ": not an OpenEXR, KTX2 or DDS file\n"), std::string::npos) << errors;
+    EXPECT_NE(errors.find("msmcl: " + path("missing.exr") + ": cannot open"), std::string::npos) << errors;
+    EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 2) << errors;
+    const std::string described = bytes("bad.txt");
+    EXPECT_NE(described.find(path("map.exr") + ": moment shadow map"), std::string::npos) << described;
+    EXPECT_NE(described.find(path("map.ktx2") + ": moment shadow map"), std::string::npos) << described;
 }
 
 } // namespace

@@ -4,7 +4,10 @@
 // CONFIG) from a fresh consumer project (examples/, C++ and C, shared and static) whose
 // variables and targets all point into the prefix and whose configure step prints no
 // warning, pkg-config without the static library's dependencies, and the installed CLI
-// finding its libraries without LD_LIBRARY_PATH.
+// finding its libraries without LD_LIBRARY_PATH. Consumers pick their own OpenCL version:
+// the CMake project at 3.0, pkg-config shared at 3.0 and 1.2, pkg-config static as the
+// one-line command docs/integration-build.md prints; every public header compiles
+// warning-free with any version.
 // Needs cmake, a C compiler, nm, readelf and pkg-config (paths from CMakeLists.txt).
 #include <gtest/gtest.h>
 
@@ -61,6 +64,19 @@ protected:
     void SetUp() override { ASSERT_EQ(install_.exit_code, 0) << install_.output; }
 
     static fs::path libdir() { return prefix_ / MSMCL_INSTALL_LIBDIR; }
+    /// pkg-config with the installed .pc files first on its search path.
+    static std::string pkg_config() {
+        return "PKG_CONFIG_PATH=" + quoted(libdir() / "pkgconfig") + " '" + MSMCL_PKG_CONFIG_COMMAND + "' ";
+    }
+    /// Compiles `program` with `command` (which names the source and flags), runs it and
+    /// expects exit 0 and `ok_line` in its output.
+    static void build_and_run(const std::string& command, const fs::path& program, const std::string& ok_line) {
+        const Outcome compile = run(command + " -o " + quoted(program));
+        ASSERT_EQ(compile.exit_code, 0) << compile.output;
+        const Outcome result = run(quoted(program));
+        EXPECT_EQ(result.exit_code, 0) << result.output;
+        EXPECT_NE(result.output.find(ok_line), std::string::npos) << result.output;
+    }
 
     static fs::path root_;
     static fs::path prefix_;
@@ -132,11 +148,21 @@ TEST_F(InstallTest, SharedLibraryHasSonameAndExportsThePublicApiOnly) {
 }
 
 // A fresh project (examples/) finds the installed package and builds against it, from C++
-// and C, shared and static; the examples check their own results.
+// and C, shared and static, with OpenCL 3.0 as its own version (no "redefined" warning, which
+// -Werror would turn into a failure; the C++ example creates its queue with the 2.0 call);
+// the examples check their own results.
 TEST_F(InstallTest, ConsumerProjectFindsThePackageAndRuns) {
+    // The exported targets leave the OpenCL version to the consumer.
+    for (const char* file : {"msmclTargets.cmake", "msmclStaticTargets.cmake"}) {
+        std::ifstream targets(libdir() / "cmake" / "msmcl" / file);
+        const std::string text((std::istreambuf_iterator<char>(targets)), std::istreambuf_iterator<char>());
+        EXPECT_EQ(text.find("OPENCL_VERSION"), std::string::npos) << file << "\n" << text;
+    }
     const fs::path build = root_ / "consumer";
     const Outcome configure = run(std::string("'") + MSMCL_CMAKE_COMMAND + "' -S '" + MSMCL_SOURCE_DIR +
                                   "/examples' -B " + quoted(build) + " -DCMAKE_BUILD_TYPE=Release" +
+                                  " -DMSMCL_EXAMPLES_OPENCL_VERSION=300 -DCMAKE_C_FLAGS=-Werror" +
+                                  " -DCMAKE_CXX_FLAGS=-Werror" +
                                   " -DCMAKE_PREFIX_PATH=" + quoted(prefix_) +
                                   " -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON -DCMAKE_C_COMPILER='" +
                                   MSMCL_C_COMPILER + "' -DCMAKE_CXX_COMPILER='" + MSMCL_CXX_COMPILER + "'");
@@ -238,13 +264,9 @@ TEST_F(InstallTest, PkgConfigNeedsNoFileFormatPackages) {
     EXPECT_NE(run(pkg_config + "--exists OpenEXR").exit_code, 0) << "the search path still sees OpenEXR";
     const Outcome flags = run(pkg_config + "--cflags --libs msmcl");
     ASSERT_EQ(flags.exit_code, 0) << flags.output;
-    const fs::path program = root_ / "example_c_pkgconfig_minimal";
-    const Outcome compile = run(std::string("'") + MSMCL_C_COMPILER + "' -std=c99 '" + MSMCL_SOURCE_DIR +
-                                "/examples/engine.c' -o " + quoted(program) + " $(" + pkg_config +
-                                "--cflags --libs msmcl) -Wl,-rpath," + quoted(libdir()));
-    ASSERT_EQ(compile.exit_code, 0) << compile.output;
-    const Outcome result = run(quoted(program));
-    EXPECT_EQ(result.exit_code, 0) << result.output;
+    build_and_run(std::string("'") + MSMCL_C_COMPILER + "' -std=c99 '" + MSMCL_SOURCE_DIR + "/examples/engine.c' $(" +
+                      pkg_config + "--cflags --libs msmcl) -Wl,-rpath," + quoted(libdir()),
+                  root_ / "example_c_pkgconfig_minimal", "example_c: ok");
     // The static variant resolves there too.
     EXPECT_EQ(run(pkg_config + "--cflags --libs msmcl-static").exit_code, 0);
 }
@@ -261,9 +283,46 @@ TEST_F(InstallTest, InstalledCliRunsFromItsPrefix) {
     EXPECT_NE(version.output.find(std::string("msmcl ") + MSMCL_VERSION), std::string::npos) << version.output;
 }
 
-TEST_F(InstallTest, PkgConfigBuildsTheCExample) {
-    const std::string environment = "PKG_CONFIG_PATH=" + quoted(libdir() / "pkgconfig") + " ";
-    const std::string pkg_config = environment + "'" + MSMCL_PKG_CONFIG_COMMAND + "' ";
+// The man page msmcl(1) renders from the prefix (`man -l`, and `man msmcl` with the prefix's
+// share/man on MANPATH) with the commands and the environment variables; the bash completion
+// offers the subcommands and the options of the command on the line.
+TEST_F(InstallTest, ManPageAndCompletionWorkFromThePrefix) {
+    const fs::path cli = prefix_ / MSMCL_INSTALL_BINDIR / "msmcl";
+    if (!fs::exists(cli)) GTEST_SKIP() << "the CLI is not built (MSMCL_BUILD_TOOLS=OFF)";
+    const fs::path completion = prefix_ / MSMCL_INSTALL_DATADIR / "bash-completion" / "completions" / "msmcl";
+    ASSERT_TRUE(fs::is_regular_file(completion));
+    const auto complete = [&](const std::string& words, int current) {
+        return run("bash -c 'source " + completion.string() + "; COMP_WORDS=(" + words + "); COMP_CWORD=" +
+                   std::to_string(current) + "; _msmcl; echo \"${COMPREPLY[*]}\"'");
+    };
+    const Outcome commands = complete("msmcl \"\"", 1);
+    EXPECT_EQ(commands.exit_code, 0) << commands.output;
+    const std::string offered = " " + commands.output.substr(0, commands.output.find('\n')) + " ";
+    for (const char* command : {"filter", "shade", "sat", "soft", "scatter", "devices", "info"})
+        EXPECT_NE(offered.find(std::string(" ") + command + " "), std::string::npos) << command << ": " << offered;
+    EXPECT_EQ(complete("msmcl fi", 1).output, "filter\n");
+    EXPECT_EQ(complete("msmcl shade map.exr --lo", 3).output, "--lookup\n");
+    EXPECT_EQ(complete("msmcl --qu", 1).output, "--quiet\n");
+
+#ifndef MSMCL_HAS_MAN_PAGE
+    GTEST_SKIP() << "no man page (help2man was not found at configure time)";
+#else
+    const fs::path page = prefix_ / MSMCL_INSTALL_MANDIR / "man1" / "msmcl.1";
+    ASSERT_TRUE(fs::is_regular_file(page));
+    for (const std::string& command : {"man -l " + quoted(page), "MANPATH=" + quoted(prefix_ / MSMCL_INSTALL_MANDIR) + " man msmcl"}) {
+        SCOPED_TRACE(command);
+        const Outcome rendered = run("MANWIDTH=100 MANPAGER=cat PAGER=cat " + command);
+        EXPECT_EQ(rendered.exit_code, 0) << rendered.output;
+        for (const char* text : {"NAME", "msmcl - moment shadow maps", "--quiet", "msmcl filter", "msmcl info",
+                                 "MSMCL_STRICT", "MSMCL_CACHE_DIR", "Exit codes"})
+            EXPECT_NE(rendered.output.find(text), std::string::npos) << text << "\n" << rendered.output;
+        EXPECT_EQ(rendered.output.find("warning"), std::string::npos) << rendered.output;
+    }
+#endif
+}
+
+TEST_F(InstallTest, PkgConfigReportsTheLibrary) {
+    const std::string pkg_config = InstallTest::pkg_config();
     const Outcome version = run(pkg_config + "--modversion msmcl");
     ASSERT_EQ(version.exit_code, 0) << version.output;
     EXPECT_EQ(version.output, std::string(MSMCL_VERSION) + "\n");
@@ -272,15 +331,75 @@ TEST_F(InstallTest, PkgConfigBuildsTheCExample) {
     EXPECT_NE(flags.output.find("-lmsmcl"), std::string::npos) << flags.output;
     const Outcome static_flags = run(pkg_config + "--static --libs msmcl");
     EXPECT_EQ(static_flags.exit_code, 0) << static_flags.output;
+}
 
-    const fs::path program = root_ / "example_c_pkgconfig";
-    const Outcome compile = run(std::string("'") + MSMCL_C_COMPILER + "' -std=c99 '" + MSMCL_SOURCE_DIR +
-                                "/examples/engine.c' -o " + quoted(program) + " $(" + pkg_config +
-                                "--cflags --libs msmcl) -Wl,-rpath," + quoted(libdir()));
-    ASSERT_EQ(compile.exit_code, 0) << compile.output;
-    const Outcome result = run(quoted(program));
-    EXPECT_EQ(result.exit_code, 0) << result.output;
-    EXPECT_NE(result.output.find("example_c: ok"), std::string::npos) << result.output;
+// pkg-config builds the examples against the shared library, and leaves the OpenCL version
+// to the consumer: the C++ example at 3.0 (its queue from the 2.0 call) and the C example at
+// 1.2, each warning-free, each running.
+TEST_F(InstallTest, PkgConfigConsumersPickTheirOpenClVersion) {
+    const std::string pkg_config = InstallTest::pkg_config();
+    for (const char* package : {"msmcl", "msmcl-static"}) {
+        const Outcome flags = run(pkg_config + "--cflags " + package);
+        ASSERT_EQ(flags.exit_code, 0) << flags.output;
+        EXPECT_EQ(flags.output.find("OPENCL_VERSION"), std::string::npos) << package << ": " << flags.output;
+    }
+    const std::pair<std::string, std::string> consumers[] = {
+        {std::string("'") + MSMCL_CXX_COMPILER + "' -std=c++17 -DCL_TARGET_OPENCL_VERSION=300", "engine.cpp"},
+        {std::string("'") + MSMCL_C_COMPILER + "' -std=c99 -DCL_TARGET_OPENCL_VERSION=120", "engine.c"},
+    };
+    for (const auto& [compiler, source] : consumers) {
+        SCOPED_TRACE(source);
+        build_and_run(compiler + " -Wall -Wextra -Werror '" + MSMCL_SOURCE_DIR + "/examples/" + source + "' $(" +
+                          pkg_config + "--cflags --libs msmcl) -Wl,-rpath," + quoted(libdir()),
+                      root_ / ("pkgconfig_version_" + source), ": ok");
+    }
+}
+
+// The static library links with the one-line command of docs/integration-build.md, as
+// printed: `cc r.c $(pkg-config --cflags --libs msmcl-static)`, no --static needed; the
+// program needs no libmsmcl.so at run time.
+TEST_F(InstallTest, StaticPkgConfigLinksAsPrinted) {
+    const fs::path program = root_ / "example_c_pkgconfig_static";
+    build_and_run(std::string("'") + MSMCL_C_COMPILER + "' '" + MSMCL_SOURCE_DIR + "/examples/engine.c' $(" + pkg_config() +
+                      "--cflags --libs msmcl-static)",
+                  program, "example_c: ok");
+    const Outcome needed = run(std::string("'") + MSMCL_READELF_COMMAND + "' -d " + quoted(program));
+    EXPECT_EQ(needed.output.find("libmsmcl"), std::string::npos) << needed.output;
+}
+
+// Every installed public header on its own, included with -I (not as a system header, which
+// would hide its warnings), compiles without a warning under the strictest common flags, at
+// each OpenCL version a consumer may pick, and beside the Khronos C++ bindings at theirs.
+TEST_F(InstallTest, PublicHeadersCompileWarningFreeWithAnyOpenClVersion) {
+    const fs::path include = prefix_ / MSMCL_INSTALL_INCLUDEDIR;
+    const fs::path sources = root_ / "headers";
+    fs::create_directories(sources);
+    std::string cpp_sources;
+    for (const fs::directory_entry& entry : fs::directory_iterator(include / "msmcl")) {
+        const std::string name = entry.path().filename().string();
+        const fs::path source = sources / (entry.path().stem().string() + (entry.path().extension() == ".h" ? "_h.cpp" : ".cpp"));
+        std::ofstream(source) << "#include <msmcl/" << name << ">\n";
+        cpp_sources += " " + quoted(source);
+    }
+    ASSERT_FALSE(cpp_sources.empty());
+    std::ofstream(sources / "c_api.c") << "#include <msmcl/msmcl.h>\n";
+    std::ofstream(sources / "with_bindings.cpp") << "#include <CL/opencl.hpp>\n#include <msmcl/msmcl.hpp>\n";
+    const std::string warnings = " -fsyntax-only -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror -I" +
+                                 quoted(include);
+    for (const char* version : {"120", "200", "300"}) {
+        SCOPED_TRACE(version);
+        const std::string define = std::string(" -DCL_TARGET_OPENCL_VERSION=") + version;
+        const Outcome cpp = run(std::string("'") + MSMCL_CXX_COMPILER + "' -std=c++17" + warnings + define + cpp_sources);
+        EXPECT_EQ(cpp.exit_code, 0) << cpp.output;
+        EXPECT_EQ(cpp.output, "");
+        const Outcome c = run(std::string("'") + MSMCL_C_COMPILER + "' -std=c99" + warnings + define + " " + quoted(sources / "c_api.c"));
+        EXPECT_EQ(c.exit_code, 0) << c.output;
+        EXPECT_EQ(c.output, "");
+        const Outcome bindings = run(std::string("'") + MSMCL_CXX_COMPILER + "' -std=c++17" + warnings + define +
+                                     " -DCL_HPP_TARGET_OPENCL_VERSION=" + version + " -DCL_HPP_MINIMUM_OPENCL_VERSION=" +
+                                     version + " " + quoted(sources / "with_bindings.cpp"));
+        EXPECT_EQ(bindings.exit_code, 0) << bindings.output;
+    }
 }
 
 } // namespace

@@ -538,7 +538,8 @@ int run_map_command(const GlobalArguments& global, const BatchArguments& batch, 
         } catch (const error& e) {
             // --device all: a device that cannot be set up leaves its files to the others.
             if (selections.size() == 1 || (d + 1 == selections.size() && contexts.empty())) throw;
-            std::fprintf(stderr, "msmcl: device %zu of %zu skipped: %s\n", d, selections.size(), e.what());
+            if (!global.quiet)
+                std::fprintf(stderr, "msmcl: device %zu of %zu skipped: %s\n", d, selections.size(), e.what());
         }
     }
 
@@ -547,8 +548,10 @@ int run_map_command(const GlobalArguments& global, const BatchArguments& batch, 
     run.run(contexts);
 
     // The summary: a line on stderr, and the JSON where asked for.
-    std::fprintf(stderr, "%s\n", run.summary_line(contexts.size()).c_str());
-    std::fflush(stderr);
+    if (!global.quiet) {
+        std::fprintf(stderr, "%s\n", run.summary_line(contexts.size()).c_str());
+        std::fflush(stderr);
+    }
     if (!batch.json.empty()) {
         const std::string text = run.summary_json(shard.text(), contexts.size()).dump(2) + "\n";
         if (batch.json == "-") {

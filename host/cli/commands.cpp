@@ -57,7 +57,7 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     if (format_text.empty()) throw usage_error("--format is required");
     const std::optional<Format> format = parse_format(format_text);
     if (!format)
-        throw usage_error("unknown --format '" + format_text + "' (expected moments128, msm64, nlq64 or nlq32)");
+        throw usage_error(unknown_value_message("--format", format_text, {"moments128", "msm64", "nlq64", "nlq32"}));
     const std::string sigma_text = entry_option(entry, "sigma", arguments.sigma);
     const float sigma = parse_finite_float("--sigma", sigma_text);
     if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + sigma_text + "'");
@@ -67,8 +67,8 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     const std::string kernel_text = entry_option(entry, "kernel", arguments.kernel);
     const std::optional<FilterKernel> kernel = parse_filter_kernel(kernel_text);
     if (!kernel)
-        throw usage_error("unknown --kernel '" + kernel_text +
-                          "' (expected automatic, fused_paper, fused_cpu or three_pass)");
+        throw usage_error(
+            unknown_value_message("--kernel", kernel_text, {"automatic", "fused_paper", "fused_cpu", "three_pass"}));
 
     FilterOptions options;
     options.format = *format;
@@ -105,7 +105,7 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     // Check the option values before touching any file.
     ShadeOptions options;
     const std::optional<Lookup> lookup = parse_lookup(arguments.lookup);
-    if (!lookup) throw usage_error("unknown --lookup '" + arguments.lookup + "' (expected nearest, bilinear or dither)");
+    if (!lookup) throw usage_error(unknown_value_message("--lookup", arguments.lookup, {"nearest", "bilinear", "dither"}));
     options.lookup = *lookup;
     options.depth_bias = parse_finite_float("--depth-bias", arguments.depth_bias);
     options.frame = parse_frame(arguments.frame);
@@ -115,7 +115,7 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     if (!arguments.format.empty()) {
         format = parse_format(arguments.format);
         if (!format)
-            throw usage_error("unknown --format '" + arguments.format + "' (expected moments128, msm64, nlq64 or nlq32)");
+            throw usage_error(unknown_value_message("--format", arguments.format, {"moments128", "msm64", "nlq64", "nlq32"}));
     }
     require_exr_output(arguments.output);
     // The output is no spelling of an input, and can be written, before any work.

@@ -38,7 +38,8 @@ struct ShadeArguments {
 /// Global options shared by every subcommand.
 struct GlobalArguments {
     std::string device; ///< empty: default selection (MSMCL_DEVICE, else first GPU, ...)
-    bool verbose = false; ///< --verbose: a timing line per stage on stderr
+    bool verbose = false; ///< -v, --verbose: a timing line per stage on stderr
+    bool quiet = false;   ///< -q, --quiet: nothing on stderr but errors (no progress, no summary)
     DeviceSelection selection() const;
 };
 

@@ -398,11 +398,20 @@ void add_info_command(CLI::App& app, InfoArguments& arguments) {
         ->type_name("RANGE");
 }
 
-void run_info(const InfoArguments& arguments) {
+int run_info(const InfoArguments& arguments) {
     const DepthRange depth_range = parse_depth_range_option(arguments.depth_range);
-    // Describe every file first: one that cannot be read stops before anything is printed.
+    // Every readable file is described; each bad one is named on stderr (as exrheader and
+    // oiiotool --info do), and the exit code says that one was bad.
     json all = json::array();
-    for (const std::string& file : arguments.files) all.push_back(describe(file, depth_range));
+    bool bad_input = false;
+    for (const std::string& file : arguments.files) {
+        try {
+            all.push_back(describe(file, depth_range));
+        } catch (const input_error& e) {
+            std::cerr << "msmcl: " << e.what() << std::endl;
+            bad_input = true;
+        }
+    }
     std::ostringstream out;
     if (arguments.json) {
         out << all.dump(2) << '\n';
@@ -410,6 +419,7 @@ void run_info(const InfoArguments& arguments) {
         for (const json& info : all) print_text(out, info);
     }
     std::cout << out.str() << std::flush;
+    return bad_input ? 2 : 0;
 }
 
 } // namespace msmcl::cli

@@ -4,8 +4,8 @@
 // Per file: kind, container, size, format, samples, layers, attributes, and per channel
 // (decoded quantities for textures) the value range and the counts of NaN, Inf and values
 // outside the range the kind allows. Files are read leniently (a depth map with NaNs is
-// described, not refused); only a file that cannot be parsed at all is an error (exit 2),
-// and then nothing is printed.
+// described, not refused); a file that cannot be parsed at all is named on stderr, the
+// others are still described, and the exit code is 2.
 #pragma once
 
 #include "cli/commands.hpp"
@@ -26,7 +26,8 @@ struct InfoArguments {
 
 void add_info_command(CLI::App& app, InfoArguments& arguments);
 
-/// Prints the description of every file to stdout (text, or one JSON array with --json).
-void run_info(const InfoArguments& arguments);
+/// Prints the description of every readable file to stdout (text, or one JSON array with
+/// --json) and names each unreadable one on stderr; returns the exit code (2: one was bad).
+int run_info(const InfoArguments& arguments);
 
 } // namespace msmcl::cli

@@ -1,9 +1,12 @@
 // msmcl: filter depth maps into moment shadow maps and shade receivers with them.
 // Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
-// Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>".
+// Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>" (a batch and
+// `info` one per bad file). A bare `msmcl` prints the usage and the commands (exit 2).
 #include "cli/batch.hpp"
 #include "cli/commands.hpp"
+#include "cli/environment.hpp"
 #include "cli/info_command.hpp"
+#include "cli/progress.hpp"
 #include "cli/sat_commands.hpp"
 #include "cli/scatter_commands.hpp"
 #include "cli/suggestions.hpp"
@@ -46,6 +49,18 @@ int report(const std::string& problem, int exit_code) {
     return exit_code;
 }
 
+/// No subcommand: the usage line and the subcommands on stderr (exit 2), as git and ktx do.
+int usage(const CLI::App& app) {
+    std::cerr << "usage: msmcl [OPTIONS] COMMAND [ARGUMENTS]\n\ncommands:\n";
+    for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+        std::string name = "  " + command->get_name();
+        name.resize(12, ' ');
+        std::cerr << name << command->get_description() << '\n';
+    }
+    std::cerr << "\n'msmcl --help' lists the options and environment variables, 'msmcl COMMAND --help' a command's.\n";
+    return exit_bad_input;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -57,6 +72,7 @@ int main(int argc, char** argv) {
     CLI::App app{"msmcl: moment shadow maps on OpenCL (filter depth maps, shade receivers)", "msmcl"};
     app.set_version_flag("--version", std::string("msmcl ") + msmcl::version_string);
     app.require_subcommand(1);
+    // Each subcommand's help inherits this footer; the environment table is the top level's alone (below).
     app.footer("Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.");
     // Global options may also follow the subcommand.
     app.fallthrough();
@@ -67,9 +83,10 @@ int main(int argc, char** argv) {
                    "default MSMCL_DEVICE, else the first GPU, else the first CPU; an unknown device is an error; "
                    "all: a batch of filter or sat spreads its files over every device")
         ->type_name("DEVICE");
-    app.add_flag("--verbose", global.verbose,
+    app.add_flag("-v,--verbose", global.verbose,
                  "print a timing line per stage on stderr (read, device setup, program build or cache hit, "
                  "upload, kernel, download, write)");
+    app.add_flag("-q,--quiet", global.quiet, "nothing on stderr but errors: no progress line, no batch summary");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--kernel K]
     //              [--out-container C]
@@ -139,6 +156,12 @@ int main(int argc, char** argv) {
     msmcl::cli::InfoArguments info;
     msmcl::cli::add_info_command(app, info);
 
+    // `msmcl --help` (and so the man page) ends with every environment variable msmcl reads.
+    app.footer(app.get_footer() + "\n\n" + msmcl::cli::environment_help());
+
+    // A bare `msmcl`: what it can do, not only that a subcommand is missing.
+    if (argc <= 1) return usage(app);
+
     // Parse: help and version go to stdout with exit 0, every other parse error is usage.
     try {
         app.parse(argc, argv);
@@ -152,11 +175,16 @@ int main(int argc, char** argv) {
         // A typo reads as a missing word to CLI11: name the unknown word instead.
         const std::vector<std::string> arguments(argv + 1, argv + argc);
         const std::optional<std::string> unknown = msmcl::cli::unknown_word_message(app, arguments);
+        // Global options but no command: the same usage as a bare `msmcl`.
+        if (!unknown && app.get_subcommands().empty() && std::string(e.what()).find("subcommand") != std::string::npos)
+            return usage(app);
         return report(unknown ? *unknown : std::string(e.what()), exit_bad_input);
     }
+    msmcl::cli::set_quiet(global.quiet);
 
     // Run the chosen subcommand and map failures to exit codes.
     try {
+        if (global.quiet && global.verbose) throw msmcl::cli::usage_error("-q/--quiet and -v/--verbose exclude each other");
         // --device all spreads a batch's files: the other commands have one device.
         if (global.device == "all" && !filter_command->parsed() && !sat_commands.sat_command->parsed())
             throw msmcl::cli::usage_error("--device all spreads the files of a batch: only filter and sat take it");
@@ -164,7 +192,7 @@ int main(int argc, char** argv) {
         if (filter_command->parsed()) return msmcl::cli::run_filter(global, filter, filter_batch);
         else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
         else if (devices_command->parsed()) msmcl::cli::run_devices(global);
-        else if (info.command->parsed()) msmcl::cli::run_info(info);
+        else if (info.command->parsed()) return msmcl::cli::run_info(info);
         else if (scatter.command->parsed()) msmcl::cli::run_scatter(global, scatter);
         else return msmcl::cli::run_sat_commands(global, sat_commands);
         return 0;

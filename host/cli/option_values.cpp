@@ -1,4 +1,5 @@
 #include "cli/option_values.hpp"
+#include "cli/suggestions.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -24,6 +25,17 @@ long long parse_integer(const std::string& option, const std::string& text, long
         throw usage_error(option + " must be an integer in [" + std::to_string(lowest) + ", " +
                           std::to_string(highest) + "], got '" + text + "'");
     return value;
+}
+
+std::string unknown_value_message(const std::string& option, const std::string& value,
+                                  const std::vector<std::string>& valid) {
+    // "a, b, c or d", as the messages of every option read.
+    std::string list;
+    for (std::size_t i = 0; i < valid.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == valid.size() ? " or " : ", ") + valid[i];
+    const std::optional<std::string> suggestion = nearest_name(value, valid);
+    const std::string hint = suggestion ? "did you mean '" + *suggestion + "'? " : std::string();
+    return "unknown " + option + " '" + value + "' (" + hint + "expected " + list + ")";
 }
 
 DepthRange parse_depth_range_option(const std::string& text) {

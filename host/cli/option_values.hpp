@@ -7,6 +7,7 @@
 #include <msmcl/formats.hpp>
 
 #include <string>
+#include <vector>
 
 namespace msmcl::cli {
 
@@ -15,6 +16,12 @@ float parse_finite_float(const std::string& option, const std::string& text);
 
 /// The whole of `text` as an integer in [lowest, highest], else usage_error naming the option.
 long long parse_integer(const std::string& option, const std::string& text, long long lowest, long long highest);
+
+/// A value of `option` that is none of `valid`, named with the nearest valid one where one
+/// is near (as a mistyped option is, cli/suggestions.hpp): "unknown --lookup 'bilnear'
+/// (did you mean 'bilinear'? expected nearest, bilinear or dither)".
+std::string unknown_value_message(const std::string& option, const std::string& value,
+                                  const std::vector<std::string>& valid);
 
 /// --depth-range: "0,1" or "-1,1".
 DepthRange parse_depth_range_option(const std::string& text);

@@ -1,16 +1,22 @@
 #include "cli/progress.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
 
 namespace msmcl::cli {
+namespace {
+std::atomic<bool> quiet_process{false};
+} // namespace
+
+void set_quiet(bool quiet) { quiet_process = quiet; }
 
 ProgressLine::ProgressLine(bool wanted, std::function<std::string(double)> text) : text_(std::move(text)) {
     start_ = std::chrono::steady_clock::now();
     // Progress only for a person watching a terminal.
-    active_ = wanted && ::isatty(STDERR_FILENO) == 1;
+    active_ = wanted && !quiet_process && ::isatty(STDERR_FILENO) == 1;
     // MSMCL_PROGRESS_AFTER_MS: how long work runs before the line appears (500).
     if (const char* delay = std::getenv("MSMCL_PROGRESS_AFTER_MS")) after_ms_ = std::strtod(delay, nullptr);
     if (!active_) return;

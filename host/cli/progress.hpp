@@ -46,6 +46,9 @@ private:
     std::thread painter_;
 };
 
+/// -q/--quiet: no progress line in this process (nothing on stderr but errors).
+void set_quiet(bool quiet);
+
 /// "[#######.............]": `done` of `total` as a bar of `width` characters.
 std::string progress_bar(std::size_t done, std::size_t total, int width = 20);
 

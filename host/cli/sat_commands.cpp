@@ -117,8 +117,8 @@ MapJob sat_job(const SatArguments& arguments, const BatchEntry& entry) {
     const std::string kernel_text = entry_option(entry, "kernel", arguments.kernel);
     const std::optional<SatKernel> kernel = parse_sat_kernel(kernel_text);
     if (!kernel)
-        throw usage_error("unknown --kernel '" + kernel_text +
-                          "' (expected automatic, tiled_gpu, tiled_cpu or row_per_thread)");
+        throw usage_error(
+            unknown_value_message("--kernel", kernel_text, {"automatic", "tiled_gpu", "tiled_cpu", "row_per_thread"}));
     options.kernel = *kernel;
     // Build the table on the device, then publish it with what a reader needs to query it.
     return map_job(

@@ -130,12 +130,12 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
         if (options.beta < 0 || options.beta > 1) throw usage_error("--beta must be adaptive or in [0, 1], got '" + a.beta + "'");
     }
     const std::optional<ScatterKernel> kernel = parse_scatter_kernel(a.kernel);
-    if (!kernel) throw usage_error("unknown --kernel '" + a.kernel + "' (expected automatic, rows_gpu or rows_cpu)");
+    if (!kernel) throw usage_error(unknown_value_message("--kernel", a.kernel, {"automatic", "rows_gpu", "rows_cpu"}));
     options.kernel = *kernel;
     const std::optional<FilterKernel> filter_kernel = parse_filter_kernel(a.filter_kernel);
     if (!filter_kernel)
-        throw usage_error("unknown --filter-kernel '" + a.filter_kernel +
-                          "' (expected automatic, fused_paper, fused_cpu or three_pass)");
+        throw usage_error(unknown_value_message("--filter-kernel", a.filter_kernel,
+                                                {"automatic", "fused_paper", "fused_cpu", "three_pass"}));
     options.filter_kernel = *filter_kernel;
     const int ray_steps = a.ray_march.empty() ? 0 : static_cast<int>(parse_integer("--ray-march", a.ray_march, 1, 1 << 20));
     const auto jitter = static_cast<std::uint32_t>(parse_integer("--jitter", a.jitter, 0, 0xffffffffL));

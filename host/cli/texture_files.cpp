@@ -1,4 +1,5 @@
 #include "cli/texture_files.hpp"
+#include "cli/option_values.hpp"
 
 #include "io/dds.hpp"
 #include "io/gpu_image.hpp"
@@ -66,7 +67,7 @@ Container output_container(const std::string& option, const std::string& path) {
     if (option == "exr") chosen = Container::exr;
     else if (option == "ktx2") chosen = Container::ktx2;
     else if (option == "dds") chosen = Container::dds;
-    else throw usage_error("unknown --out-container '" + option + "' (expected exr, ktx2 or dds)");
+    else throw usage_error(unknown_value_message("--out-container", option, {"exr", "ktx2", "dds"}));
     if (by_extension && *by_extension != chosen)
         throw usage_error(path + ": the extension says " + container_name(*by_extension) + ", --out-container says " +
                           container_name(chosen));

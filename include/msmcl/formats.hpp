@@ -60,7 +60,10 @@ struct DepthImage {
     int layers = 1; ///< array layers in `depth`, 1 .. max_array_layers
 
     float at(int x, int y, int s = 0, int layer = 0) const {
-        return depth[((static_cast<std::size_t>(layer) * height + y) * width + x) * samples + s];
+        // Each index converted on its own: the headers compile clean under -Wsign-conversion.
+        using std::size_t;
+        return depth[((size_t(layer) * size_t(height) + size_t(y)) * size_t(width) + size_t(x)) * size_t(samples) +
+                     size_t(s)];
     }
 };
 
@@ -80,7 +83,9 @@ struct Texture {
     int layers = 1; ///< array layers in `words`
 
     const std::uint32_t* texel(int x, int y, int layer = 0) const {
-        return words.data() + ((static_cast<std::size_t>(layer) * height + y) * width + x) * texel_words(format);
+        using std::size_t;
+        return words.data() +
+               ((size_t(layer) * size_t(height) + size_t(y)) * size_t(width) + size_t(x)) * texel_words(format);
     }
     /// Array layer `index` (0 .. layers - 1) as a texture of its own.
     Texture layer(int index) const;

@@ -179,7 +179,7 @@ std::vector<float> decode_scatter_map(const ScatterMap& map);
 
 /// Bytes of a prefiltered map: 8 per texel.
 inline std::size_t scatter_map_bytes(const ScatterScene& scene) {
-    return static_cast<std::size_t>(scene.rectified_width) * scene.rectified_height * 8;
+    return static_cast<std::size_t>(scene.rectified_width) * static_cast<std::size_t>(scene.rectified_height) * 8;
 }
 /// Filtered resampling from a moments128 map (`moment_map.format` must be moments128)
 /// into `scatter_map` (scatter_map_bytes). The map's depth convention is the scene light's.

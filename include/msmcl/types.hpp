@@ -186,7 +186,8 @@ struct SatTable {
     int layers = 1; ///< array layers in `words`
 
     const std::uint32_t* texel(int x, int y, int layer = 0) const {
-        return words.data() + 4 * ((static_cast<std::size_t>(layer) * height + y) * width + x);
+        using std::size_t;
+        return words.data() + 4 * ((size_t(layer) * size_t(height) + size_t(y)) * size_t(width) + size_t(x));
     }
     /// Array layer `index` (0 .. layers - 1) as a table of its own.
     SatTable layer(int index) const;
