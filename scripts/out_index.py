@@ -255,11 +255,21 @@ def advice(quality_json):
                   f"<td>{100 * truth:.2f}%</td><td>{'-' if leak is None else f'{leak:.4f}'}</td></tr>")
     table += "</tbody></table>"
     keeps = ", ".join(f for f in FORMATS if within[f])
+    worst = {name: max(r[3] for r in rows if r[1] == name) for name in {r[1] for r in rows}}
+    smaller = [f for f in FORMATS if BITS[f] < BITS[smallest]]
     text = (f"<p><strong>Use {smallest}</strong> ({BITS[smallest]} bits per texel): the smallest format whose "
             f"shadow stays within 3% of 128-bit moments on at least 99% of the receivers of every measured scene "
-            f"(formats that do: {keeps}). Where memory matters less than the last percent, take the next larger "
-            "one; moments128 is the reference. VSM rows are there for comparison: the same bits, more light "
-            "leaking. The numbers come from this run's quality table (quality/quality.json).</p>")
+            f"(formats that do: {keeps}; moments128 is the reference). ")
+    if smaller:
+        text += ("Where memory matters most: " + ", ".join(
+            f"{f} ({BITS[f]} bits) is more than 3% off on up to {100 * worst[f]:.2f}% of a scene's receivers"
+            for f in smaller if f in worst) + ". ")
+    leaks = {r[1]: r[5] for r in rows if r[5] is not None}
+    vsm = [m for m in leaks if m.startswith("vsm")]
+    if vsm and smallest in leaks:
+        text += (f"Variance shadow maps, for comparison: banner leak {max(leaks[m] for m in vsm):.4f} against "
+                 f"{leaks[smallest]:.4f} for {smallest}. ")
+    text += "The numbers come from this run's quality table (quality/quality.json).</p>"
     return text + table
 
 
