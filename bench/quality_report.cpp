@@ -3,6 +3,7 @@
 #include "quality.hpp"
 
 #include "io/png_io.hpp"
+#include "tools/label_text.hpp"
 #include "tools/signed_difference.hpp"
 
 #include <algorithm>
@@ -26,10 +27,14 @@ std::vector<double> light_difference(const std::vector<double>& shadow, const st
     return d;
 }
 
+/// Rows of the legend below the marks image: swatches and their meaning in one line of text.
+constexpr int marks_legend_rows = msmcl::tools::kGlyphHeight + 8;
+
 /// The 128-bit shadow in grey (0.85 lit .. 0.25 shadowed), receivers where `shadow` differs
-/// from it by more than 3% in orange and by more than 10% in red.
-std::vector<float> difference_marks(const std::vector<double>& shadow, const std::vector<double>& moments128) {
-    std::vector<float> rgb(shadow.size() * 3);
+/// from it by more than 3% in orange and by more than 10% in red; below, a legend that says so.
+std::vector<float> difference_marks(const std::vector<double>& shadow, const std::vector<double>& moments128,
+                                    int width, const std::string& method) {
+    std::vector<float> rgb((shadow.size() + static_cast<std::size_t>(width) * marks_legend_rows) * 3, 1.0f);
     for (std::size_t i = 0; i < shadow.size(); ++i) {
         const double error = std::abs(shadow[i] - moments128[i]);
         const float grey = static_cast<float>(0.85 - 0.6 * std::clamp(moments128[i], 0.0, 1.0));
@@ -38,6 +43,20 @@ std::vector<float> difference_marks(const std::vector<double>& shadow, const std
         else if (error > error_threshold) colour = {1.0f, 0.6f, 0.0f};
         std::copy(colour.begin(), colour.end(), rgb.begin() + 3 * i);
     }
+    // Legend: an orange and a red swatch, each followed by what it marks.
+    const int height = static_cast<int>(shadow.size() / width) + marks_legend_rows, top = height - marks_legend_rows + 4;
+    int x = 2;
+    for (const auto& [colour, text] : {std::make_pair(std::array<float, 3>{1.0f, 0.6f, 0.0f}, "> 3%"),
+                                       std::make_pair(std::array<float, 3>{1.0f, 0.0f, 0.0f}, "> 10%")}) {
+        for (int y = top; y < top + msmcl::tools::kGlyphHeight; ++y)
+            for (int dx = 0; dx < 10; ++dx) std::copy(colour.begin(), colour.end(), rgb.begin() + 3 * (y * width + x + dx));
+        msmcl::tools::draw_text(rgb, width, height, 3, x + 14, top, text, {0.0f, 0.0f, 0.0f});
+        x += 14 + msmcl::tools::text_width(text) + 12;
+    }
+    // What is compared, where the image is wide enough for it (the caption says it otherwise).
+    const std::string compared = "|" + method + " - moments128|, grey: moments128";
+    if (x + msmcl::tools::text_width(compared) <= width)
+        msmcl::tools::draw_text(rgb, width, height, 3, x, top, compared, {0.0f, 0.0f, 0.0f});
     return rgb;
 }
 
@@ -159,8 +178,9 @@ void write_scene_images(const SceneResult& result, const std::string& out_dir) {
                                                   result.view_height, light_difference(m.shadow, result.truth),
                                                   large_error_threshold);
     }
-    msmcl::io::write_png_preview(prefix + "nlq64_vs_moments128.png", result.view_width, result.view_height, 3,
-                                 difference_marks(methods[2].shadow, methods[0].shadow));
+    msmcl::io::write_png_preview(prefix + "nlq64_vs_moments128.png", result.view_width,
+                                 result.view_height + marks_legend_rows, 3,
+                                 difference_marks(methods[2].shadow, methods[0].shadow, result.view_width, "nlq64"));
 }
 
 nlohmann::json scene_json(const SceneResult& result) {

@@ -183,7 +183,8 @@ class Catalogue:
             if rest == "nlq64_vs_moments128":
                 return (f"{scene}: where nlq64 differs from moments128",
                         "The moments128 shadow in grey; receivers where nlq64 differs by more than 3% in orange, "
-                        "by more than 10% in red.", "grey 0.85 lit .. 0.25 shadowed; orange > 3%, red > 10%", None)
+                        "by more than 10% in red.",
+                        "grey 0.85 lit .. 0.25 shadowed; orange > 3%, red > 10% (legend below the image)", None)
             method, _, kind = rest.rpartition("_")
             if method in methods and kind in ("shadow", "error"):
                 figures = quality_figures(methods[method]["vs_pcf_truth"])
