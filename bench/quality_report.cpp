@@ -3,6 +3,8 @@
 #include "quality.hpp"
 
 #include "io/png_io.hpp"
+#include "tools/label_text.hpp"
+#include "tools/signed_difference.hpp"
 
 #include <algorithm>
 #include <array>
@@ -16,22 +18,23 @@ namespace quality {
 
 namespace {
 
-/// Signed error as RGB: red where the method is lighter than the reference (leaks), blue
-/// where darker; full colour at |error| >= 0.1, black where equal.
-std::vector<float> error_image(const std::vector<double>& shadow, const std::vector<double>& reference) {
-    std::vector<float> rgb(shadow.size() * 3, 0.0f);
-    for (std::size_t i = 0; i < shadow.size(); ++i) {
-        const double error = shadow[i] - reference[i];
-        rgb[3 * i + 0] = static_cast<float>(std::max(-error, 0.0) / large_error_threshold);
-        rgb[3 * i + 2] = static_cast<float>(std::max(error, 0.0) / large_error_threshold);
-    }
-    return rgb;
+/// Signed error in light, d = reference - shadow (shadow intensities): the colour map of every
+/// difference figure (tools/signed_difference.hpp: red where the method is lighter than the
+/// reference, i.e. leaks, blue where darker, white where equal).
+std::vector<double> light_difference(const std::vector<double>& shadow, const std::vector<double>& reference) {
+    std::vector<double> d(shadow.size());
+    for (std::size_t i = 0; i < shadow.size(); ++i) d[i] = reference[i] - shadow[i];
+    return d;
 }
 
+/// Rows of the legend below the marks image: swatches and their meaning in one line of text.
+constexpr int marks_legend_rows = msmcl::tools::kGlyphHeight + 8;
+
 /// The 128-bit shadow in grey (0.85 lit .. 0.25 shadowed), receivers where `shadow` differs
-/// from it by more than 3% in orange and by more than 10% in red.
-std::vector<float> difference_marks(const std::vector<double>& shadow, const std::vector<double>& moments128) {
-    std::vector<float> rgb(shadow.size() * 3);
+/// from it by more than 3% in orange and by more than 10% in red; below, a legend that says so.
+std::vector<float> difference_marks(const std::vector<double>& shadow, const std::vector<double>& moments128,
+                                    int width, const std::string& method) {
+    std::vector<float> rgb((shadow.size() + static_cast<std::size_t>(width) * marks_legend_rows) * 3, 1.0f);
     for (std::size_t i = 0; i < shadow.size(); ++i) {
         const double error = std::abs(shadow[i] - moments128[i]);
         const float grey = static_cast<float>(0.85 - 0.6 * std::clamp(moments128[i], 0.0, 1.0));
@@ -40,6 +43,20 @@ std::vector<float> difference_marks(const std::vector<double>& shadow, const std
         else if (error > error_threshold) colour = {1.0f, 0.6f, 0.0f};
         std::copy(colour.begin(), colour.end(), rgb.begin() + 3 * i);
     }
+    // Legend: an orange and a red swatch, each followed by what it marks.
+    const int height = static_cast<int>(shadow.size() / width) + marks_legend_rows, top = height - marks_legend_rows + 4;
+    int x = 2;
+    for (const auto& [colour, text] : {std::make_pair(std::array<float, 3>{1.0f, 0.6f, 0.0f}, "> 3%"),
+                                       std::make_pair(std::array<float, 3>{1.0f, 0.0f, 0.0f}, "> 10%")}) {
+        for (int y = top; y < top + msmcl::tools::kGlyphHeight; ++y)
+            for (int dx = 0; dx < 10; ++dx) std::copy(colour.begin(), colour.end(), rgb.begin() + 3 * (y * width + x + dx));
+        msmcl::tools::draw_text(rgb, width, height, 3, x + 14, top, text, {0.0f, 0.0f, 0.0f});
+        x += 14 + msmcl::tools::text_width(text) + 12;
+    }
+    // What is compared, where the image is wide enough for it (the caption says it otherwise).
+    const std::string compared = "|" + method + " - moments128|, grey: moments128";
+    if (x + msmcl::tools::text_width(compared) <= width)
+        msmcl::tools::draw_text(rgb, width, height, 3, x, top, compared, {0.0f, 0.0f, 0.0f});
     return rgb;
 }
 
@@ -81,7 +98,7 @@ void print_preamble(const std::string& device_name, const std::string& kernel_na
               << leak_truth_min << " (shadowed by the railing 14 cm in front); leak = mean of max(0, truth - "
                  "method), and the share of them leaking more than "
               << leak_significant << ". Error images (--out): red = lighter than the PCF truth, blue = darker, "
-                 "full colour at |error| >= 0.1.\n\n";
+                 "white = equal, full colour at |error| >= 0.1 (colour bar below each).\n\n";
 }
 
 void print_scene(const SceneResult& result) {
@@ -156,11 +173,14 @@ void write_scene_images(const SceneResult& result, const std::string& out_dir) {
     grey("pcf_constant_bias.png", result.truth_constant_bias);
     for (const MethodResult& m : methods) {
         grey(m.name + "_shadow.png", m.shadow);
-        msmcl::io::write_png_preview(prefix + m.name + "_error.png", result.view_width, result.view_height, 3,
-                                     error_image(m.shadow, result.truth));
+        // Full colour at |error| >= 0.1, with the labelled colour bar below.
+        msmcl::tools::write_signed_difference_png(prefix + m.name + "_error.png", result.view_width,
+                                                  result.view_height, light_difference(m.shadow, result.truth),
+                                                  large_error_threshold);
     }
-    msmcl::io::write_png_preview(prefix + "nlq64_vs_moments128.png", result.view_width, result.view_height, 3,
-                                 difference_marks(methods[2].shadow, methods[0].shadow));
+    msmcl::io::write_png_preview(prefix + "nlq64_vs_moments128.png", result.view_width,
+                                 result.view_height + marks_legend_rows, 3,
+                                 difference_marks(methods[2].shadow, methods[0].shadow, result.view_width, "nlq64"));
 }
 
 nlohmann::json scene_json(const SceneResult& result) {
@@ -225,7 +245,7 @@ nlohmann::json results_json(const std::string& device_name, const std::string& k
                           {"leak_definition",
                            "banner receivers with PCF truth >= 0.5; mean of max(0, truth - method); share with "
                            "truth - method > 0.1"},
-                          {"error_image_scale", "full colour at |error| >= 0.1; red lighter than truth, blue darker"},
+                          {"error_image_scale", "full colour at |error| >= 0.1; red lighter than truth, blue darker, white equal"},
                           {"scenes", std::move(scenes)}};
 }
 

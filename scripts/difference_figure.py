@@ -13,7 +13,7 @@ from matplotlib.colors import LinearSegmentedColormap  # noqa: E402
 
 # tools/signed_difference.hpp: ColorBrewer RdBu (9 classes), white centre, blue = -range.
 ANCHORS = ["#2166ac", "#4393c3", "#92c5de", "#d1e5f0", "#ffffff", "#fddbc7", "#f4a582", "#d6604d", "#b2182b"]
-LEGEND_ROWS = 20  # the gap and bar the difference PNGs carry below the image
+LEGEND_ROWS = 31  # the gap, bar and labels the difference PNGs carry below the image (kLegendRows)
 
 
 def load_png(path, legend=False, crop=None):

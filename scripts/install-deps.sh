@@ -20,6 +20,9 @@ packages=(
   assimp-testmodels
   # Plots of the bench's JSON (scripts/plot_bench.py).
   python3-matplotlib
+  # The JSON Schema test of `msmcl info --json` and batch summaries (tests/json_schema_test.py);
+  # the main job's page opened in a headless browser (tests/out_index_test.py).
+  python3-jsonschema chromium
   # Offline GPU compiles (scripts/gpu_compile_report.py): AMDGPU and NVPTX through clang and
   # libclc; libllvm14 and libclang-cpp14 for Intel's ocloc, unpacked below.
   python3 clang-15 llvm-15 libclc-15 libclc-15-dev libllvm14 libclang-cpp14

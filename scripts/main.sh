@@ -48,17 +48,21 @@ done
 # (lavapipe on a CPU-only machine), beside the OpenCL PNG, and the signed difference
 # Vulkan - OpenCL over a dimmed copy of the OpenCL shadow (red: Vulkan darker, blue:
 # lighter; full colour at 1e-6 for nlq32, the same float32 math, and at 1e-4 for msm64,
-# where the shader's float32 4MSM meets the kernel's float-float one).
+# where the shader's float32 4MSM meets the kernel's float-float one; the labelled bar of
+# tools/signed_difference.hpp below). Their figures go to vulkan_vs_opencl.txt.
 vulkan=$build/examples/vulkan/msmcl-vulkan
+: >"$out/vulkan_vs_opencl.txt"
 for entry in nlq32:1e-6 msm64:1e-4; do
   IFS=: read -r format diff_scale <<<"$entry"
   base=$out/railing_1024_${format}_bilinear
   "$msmcl" filter "$generated/railing_1024x1024_8x.exr" "$out/railing_1024_${format}.ktx2" --format "$format"
   "$vulkan" shade "$out/railing_1024_${format}.ktx2" "$generated/railing_view_640x480.exr" "${base}_vulkan_shadow.exr" --lookup bilinear
   "$tools/msmcl-preview" "${base}_vulkan_shadow.exr" "${base}_vulkan.png" --lighting "$generated/railing_view_640x480_lighting.exr"
-  echo -n "railing_1024 $format bilinear, Vulkan - OpenCL: "
-  "$vulkan" compare "${base}_shadow.exr" "${base}_vulkan_shadow.exr" --diff-png "${base}_vulkan_diff.png" --diff-scale "$diff_scale"
+  echo -n "railing_1024 $format bilinear, Vulkan - OpenCL: " >>"$out/vulkan_vs_opencl.txt"
+  "$vulkan" compare "${base}_shadow.exr" "${base}_vulkan_shadow.exr" --diff-png "${base}_vulkan_diff.png" \
+    --diff-scale "$diff_scale" >>"$out/vulkan_vs_opencl.txt"
 done
+cat "$out/vulkan_vs_opencl.txt"
 
 # Soft shadows: a summed-area table of the moments, then moment soft shadow mapping with a
 # directional light of finite size (contact hardening at the railing posts, at Wuson's feet),
@@ -153,5 +157,11 @@ done
 # the PCF ground truth, with shadow and error images (out/quality/).
 "$build/bench/msmcl-quality" --large --out "$out/quality" --json "$out/quality/quality.json" > "$out/quality.md"
 
-echo "main job: textures, shadows and previews in $out"
+# The page that shows it all: every image with its caption, the quality table and the advice
+# on which format to use (scripts/out_index.py), then checked in headless Chromium: every
+# image decodes, every link resolves (tests/out_index_test.py; skipped without chromium).
+"$python" scripts/out_index.py "$out" --check
+/usr/bin/python3 tests/out_index_test.py --out "$out" || [ $? -eq 77 ]
+
+echo "main job: textures, shadows and previews in $out, to read: $out/index.html"
 ls "$out"/*.png | sed 's/^/  /'

@@ -267,6 +267,7 @@ TEST_F(BatchCli, JsonSummaryDescribesEveryFile) {
     const CliRun run = cli({"sat", inputs[0], "missing.exr", inputs[1], "-o", "out", "--json", "summary.json"});
     EXPECT_EQ(run.exit_code, 2) << run.err;
     const json summary = json::parse(bytes("summary.json"));
+    EXPECT_EQ(summary["schema"], "msmcl-batch/1");
     EXPECT_EQ(summary["command"], "sat");
     EXPECT_EQ(summary["shard"], "0/1");
     EXPECT_EQ(summary["written"], 2);

@@ -540,7 +540,8 @@ TEST_F(CliContainers, InfoDescribesEveryKindOfFile) {
     EXPECT_EQ(depth_info.at("kind"), "depth map");
     EXPECT_EQ(depth_info.at("width"), 4);
     EXPECT_EQ(depth_info.at("samples"), 1);
-    EXPECT_EQ(depth_info.at("layers"), 1);
+    EXPECT_EQ(depth_info.at("translucent_layers"), 1);
+    EXPECT_EQ(depth_info.at("layers"), 1); // an EXR holds one array layer
     const nlohmann::json z = channel(depth_info, "Z");
     EXPECT_EQ(z.at("nan"), 2);
     EXPECT_EQ(z.at("inf"), 1);
@@ -559,10 +560,18 @@ TEST_F(CliContainers, InfoDescribesEveryKindOfFile) {
     EXPECT_EQ(channel(all[3], "b2").at("count"), 37 * 29);
     EXPECT_EQ(all[4].at("container"), "ktx2");
     EXPECT_EQ(all[4].at("format"), "nlq32");
-    EXPECT_EQ(all[4].at("attributes").at("msmcl:sigma"), "1.5");
+    EXPECT_EQ(all[4].at("attributes").at("msmcl:sigma"), 1.5); // a number, as in EXR
+    EXPECT_EQ(all[4].at("samples"), all[1].at("samples"));
     EXPECT_EQ(channel(all[4], "xi4").at("out_of_range"), 0);
     EXPECT_EQ(all[5].at("container"), "dds");
-    EXPECT_EQ(all[5].at("format"), "msm64 or nlq64");
+    EXPECT_TRUE(all[5].at("format").is_null());
+    EXPECT_EQ(all[5].at("candidates"), nlohmann::json::array({"msm64", "nlq64"}));
+    EXPECT_TRUE(all[5].at("samples").is_null()); // DDS keeps no record
+    // Every description has the same keys, and says its layout's version.
+    for (const nlohmann::json& info : all) {
+        EXPECT_EQ(info.at("schema"), "msmcl-info/1");
+        EXPECT_EQ(info.size(), all[0].size()) << info.dump();
+    }
     EXPECT_EQ(all[6].at("kind"), "summed-area table");
     EXPECT_EQ(all[6].at("max_kernel_texels"), 100);
     EXPECT_EQ(all[7].at("kind"), "shadow intensity");
@@ -571,7 +580,7 @@ TEST_F(CliContainers, InfoDescribesEveryKindOfFile) {
     // Text: one headline per file, a line per channel with the same counts.
     ASSERT_EQ(cli("info " + files + " > " + q("info.txt")), 0) << err();
     const std::string text = bytes("info.txt");
-    EXPECT_NE(text.find(path("broken.exr") + ": depth map, 4x2, exr, samples 1, layers 1"), std::string::npos) << text;
+    EXPECT_NE(text.find(path("broken.exr") + ": depth map, 4x2, exr, samples 1, translucent_layers 1"), std::string::npos) << text;
     EXPECT_NE(text.find("  Z (float32): min -0.25, max 1.5, NaN 2, Inf 1, outside [0, 1] 2"), std::string::npos) << text;
     EXPECT_NE(text.find(path("map.ktx2") + ": moment shadow map, 37x29, ktx2, format nlq32"), std::string::npos) << text;
 

@@ -2,10 +2,11 @@
 // side by side on a view's receivers: nearest, bilinear, dither (one frame) and the mean of
 // dither over N frames, each lit by the view's lighting (ambient + direct * (1 - Y)) where
 // given, else the shadow intensity (white lit, black shadowed). A crop and an integer zoom
-// (pixel replication) show the texel structure.
+// (pixel replication) show the texel structure. A strip above the panels names each one.
 #include "io/exr_io.hpp"
 #include "io/png_io.hpp"
 #include "exr_channels.hpp"
+#include "label_text.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
@@ -86,19 +87,27 @@ int main(int argc, char** argv) {
         }
         panels.push_back(mean);
 
-        // Compose: lit panels, cropped, zoomed, side by side on a mid-gray background.
+        // Compose: lit panels, cropped, zoomed, side by side on a mid-gray background, below a
+        // strip with each panel's name in black.
         const int panel_width = crop.width * zoom, panel_height = crop.height * zoom;
+        const int label_rows = msmcl::tools::kGlyphHeight + 6;
         const int width = static_cast<int>(panels.size()) * panel_width + (static_cast<int>(panels.size()) - 1) * gap;
-        std::vector<float> image(static_cast<std::size_t>(width) * panel_height, 0.5f);
+        const int height = label_rows + panel_height;
+        std::vector<float> image(static_cast<std::size_t>(width) * height, 0.5f);
+        const std::string names[] = {"nearest", "bilinear", "dither (frame 0)",
+                                     "mean of " + std::to_string(frames) + " dither frames"};
+        for (std::size_t p = 0; p < panels.size(); ++p)
+            msmcl::tools::draw_text(image, width, height, 1, static_cast<int>(p) * (panel_width + gap) + 2, 3, names[p],
+                                    {0.0f, 0.0f, 0.0f});
         for (std::size_t p = 0; p < panels.size(); ++p)
             for (int y = 0; y < panel_height; ++y)
                 for (int x = 0; x < panel_width; ++x) {
                     const std::size_t i = static_cast<std::size_t>(crop.y + y / zoom) * view.width + crop.x + x / zoom;
                     const float shadow = panels[p][i];
                     const float value = ambient.empty() ? 1.0f - shadow : ambient[i] + direct[i] * (1.0f - shadow);
-                    image[static_cast<std::size_t>(y) * width + p * (panel_width + gap) + x] = value;
+                    image[static_cast<std::size_t>(label_rows + y) * width + p * (panel_width + gap) + x] = value;
                 }
-        msmcl::io::write_png_preview(output, width, panel_height, 1, image);
+        msmcl::io::write_png_preview(output, width, height, 1, image);
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "msmcl-lookup-preview: " << e.what() << std::endl;

@@ -1,4 +1,5 @@
 #include "signed_difference.hpp"
+#include "label_text.hpp"
 
 #include "io/png_io.hpp"
 
@@ -6,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace msmcl::tools {
 namespace {
@@ -71,7 +73,7 @@ DifferenceStats difference_stats(const std::vector<double>& difference, double t
 }
 
 void write_signed_difference_png(const std::string& path, int width, int height,
-                                 const std::vector<double>& difference, double range) {
+                                 const std::vector<double>& difference, double range, const BarWords& words) {
     if (width <= 0 || height <= 0 || difference.size() != static_cast<std::size_t>(width) * height)
         throw input_error(path + ": difference image size does not match its data");
     if (!(range > 0.0) || !std::isfinite(range))
@@ -96,6 +98,17 @@ void write_signed_difference_png(const std::string& path, int width, int height,
         const int x = static_cast<int>(std::lround(tick * (width - 1) / 4.0));
         for (int y = bar_top; y < bar_top + 4; ++y) put(x, y, {0.0f, 0.0f, 0.0f});
     }
+    // Labels under the bar: the values at its ends and at 0, with what the ends mean.
+    char low[32], high[32];
+    std::snprintf(low, sizeof low, "%.3g", -range);
+    std::snprintf(high, sizeof high, "+%.3g", range);
+    std::string left = std::string(low) + " " + words.negative, right = words.positive + " " + high;
+    const int centre = text_width("0"), margin = 2 * kGlyphAdvance;
+    if (text_width(left) + text_width(right) + centre + 2 * margin > width) left = low, right = high;
+    const int label_top = bar_top + 16 + 2;
+    draw_text(rgb, width, rows, 3, 0, label_top, left, {0.0f, 0.0f, 0.0f});
+    draw_text(rgb, width, rows, 3, (width - centre) / 2, label_top, "0", {0.0f, 0.0f, 0.0f});
+    draw_text(rgb, width, rows, 3, width - text_width(right), label_top, right, {0.0f, 0.0f, 0.0f});
     msmcl::io::write_png_preview(path, width, rows, 3, rgb, 0.0f, 1.0f);
 }
 

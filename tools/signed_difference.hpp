@@ -17,8 +17,9 @@
 //
 // Legend: below the image, a gray gap of 4 rows, then a colour bar of 16 rows that spans the
 // image's width from d = -range (left) to +range (right), with black ticks 4 rows deep at
-// -range, -range/2, 0, +range/2, +range. The bar carries no text: the range goes into the
-// file name or the caption (e.g. `..._diff_pm0.5.png`).
+// -range, -range/2, 0, +range/2, +range, then a row of labels (tools/label_text.hpp): the
+// values at the ends and at 0, and what each end means ("-0.5 darker", "0", "lighter +0.5";
+// the words are dropped where the image is too narrow for them).
 #pragma once
 
 #include <array>
@@ -52,13 +53,19 @@ std::vector<double> signed_difference(const std::vector<float>& approximation, c
 /// Mean, p99 and the shares beyond +-threshold of the finite differences.
 DifferenceStats difference_stats(const std::vector<double>& difference, double threshold);
 
-/// Rows the legend adds below a width x height image.
-constexpr int kLegendRows = 4 + 16;
+/// Rows the legend adds below a width x height image: gap, bar, labels with a margin.
+constexpr int kLegendRows = 4 + 16 + 11;
+
+/// What the ends of the colour bar mean.
+struct BarWords {
+    std::string negative = "darker"; ///< d = -range
+    std::string positive = "lighter"; ///< d = +range
+};
 
 /// Writes the width x height difference image with the legend below it as an RGB PNG of
 /// width x (height + kLegendRows) pixels (atomic, byte-deterministic). Throws
 /// msmcl::input_error for a size mismatch or a range that is not finite and positive.
 void write_signed_difference_png(const std::string& path, int width, int height,
-                                 const std::vector<double>& difference, double range);
+                                 const std::vector<double>& difference, double range, const BarWords& words = {});
 
 } // namespace msmcl::tools

@@ -28,6 +28,7 @@
 #include "io/scene_json.hpp"
 #include "io/texture_metadata.hpp"
 #include "ops/scatter_params.hpp"
+#include "tools/signed_difference.hpp"
 
 #include <msmcl/errors.hpp>
 #include <msmcl/formats.hpp>
@@ -489,11 +490,12 @@ void run_compare(const CompareArguments& c) {
     if (a.width != b.width || a.height != b.height)
         throw msmcl::input_error(c.b + ": " + std::to_string(b.width) + "x" + std::to_string(b.height) + ", " + c.a +
                                  " is " + std::to_string(a.width) + "x" + std::to_string(a.height));
-    // Statistics of b - a. The PNG shows a dimmed grey copy of a (lit lighter) with b - a on
-    // top: red where b is larger, blue where smaller, full colour at --diff-scale.
+    // Statistics of b - a. The PNG shows b - a in the colour map of every difference figure
+    // (tools/signed_difference.hpp): red where b is larger, blue where smaller, white where
+    // equal, full colour at --diff-scale, with the labelled colour bar below.
     double sum_squares = 0, largest = 0;
     std::size_t above_1e3 = 0, above_1e2 = 0, above_1e1 = 0;
-    std::vector<float> rgb(ca->values.size() * 3, 0.0f);
+    std::vector<double> difference(ca->values.size());
     for (std::size_t i = 0; i < ca->values.size(); ++i) {
         const double d = static_cast<double>(cb->values[i]) - ca->values[i];
         sum_squares += d * d;
@@ -501,15 +503,14 @@ void run_compare(const CompareArguments& c) {
         above_1e3 += std::fabs(d) > 1e-3;
         above_1e2 += std::fabs(d) > 1e-2;
         above_1e1 += std::fabs(d) > 1e-1;
-        const float grey = 0.1f + 0.25f * (1.0f - std::min(std::max(ca->values[i], 0.0f), 1.0f));
-        const float strength = static_cast<float>(std::min(std::fabs(d) / scale, 1.0));
-        rgb[3 * i + 0] = rgb[3 * i + 1] = rgb[3 * i + 2] = grey * (1.0f - strength);
-        rgb[3 * i + (d > 0 ? 0 : 2)] += strength;
+        difference[i] = d;
     }
     const std::size_t n = ca->values.size();
     std::printf("%zu values: max |b - a| %.3g, rms %.3g, above 1e-3: %zu, above 1e-2: %zu, above 0.1: %zu\n", n,
                 largest, n ? std::sqrt(sum_squares / n) : 0.0, above_1e3, above_1e2, above_1e1);
-    if (!c.diff_png.empty()) msmcl::io::write_png_preview(c.diff_png, a.width, a.height, 3, rgb, 0.0f, 1.0f);
+    if (!c.diff_png.empty())
+        msmcl::tools::write_signed_difference_png(c.diff_png, a.width, a.height, difference, scale,
+                                                  {"b smaller", "b larger"});
 }
 
 int report(const std::string& message, int code) {

@@ -178,7 +178,7 @@ public:
                          {"output", jobs_[i].output},
                          {"status", detail::name_in(outcome_names, r.outcome)},
                          {"error", r.error.empty() ? json(nullptr) : json(r.error)},
-                         {"device", r.device},
+                         {"device", r.device.empty() ? json(nullptr) : json(r.device)},
                          {"input_bytes", r.input_bytes},
                          {"output_bytes", r.output_bytes},
                          {"ms", r.total_ms},
@@ -187,7 +187,9 @@ public:
                          {"write_ms", r.write_ms}};
             files.push_back(std::move(file));
         }
-        return {{"command", command_},
+        // The layout's version: docs/schemas/msmcl-batch-1.schema.json.
+        return {{"schema", "msmcl-batch/1"},
+                {"command", command_},
                 {"shard", shard},
                 {"devices", devices},
                 {"files", std::move(files)},

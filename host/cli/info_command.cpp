@@ -23,6 +23,7 @@
 #include <iostream>
 #include <limits>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -147,8 +148,9 @@ json attributes_of(const io::ExrImage& image) {
 /// raw channel statistics (with the ranges the kind allows) for everything else.
 json describe_exr(const std::string& path, DepthRange depth_range) {
     const io::ExrImage image = io::read_exr(path);
-    json info = {{"container", "exr"}, {"width", image.width}, {"height", image.height},
-                 {"attributes", attributes_of(image)}};
+    // An EXR holds one image: one array layer, never a texture array.
+    json info = {{"container", "exr"}, {"width", image.width},     {"height", image.height},
+                 {"layers", 1},         {"texture_array", false}, {"attributes", attributes_of(image)}};
     const io::ExrAttribute* format = image.find_attribute("msmcl:format");
     const std::string format_text =
         format && std::holds_alternative<std::string>(format->value) ? std::get<std::string>(format->value) : "";
@@ -199,7 +201,7 @@ json describe_exr(const std::string& path, DepthRange depth_range) {
     }
     if (info["kind"] == "depth map") {
         info["samples"] = has("Z") ? 1 : samples;
-        info["layers"] = layers.size();
+        info["translucent_layers"] = layers.size();
     }
 
     // Every channel, with the range its meaning allows.
@@ -224,6 +226,14 @@ json describe_exr(const std::string& path, DepthRange depth_range) {
     return info;
 }
 
+/// A KTX2 key/value entry as JSON: msmcl's own keys that hold a decimal number (msmcl:samples,
+/// msmcl:sigma, ...) as that number, as the EXR attributes give them; everything else as text.
+json metadata_value(const std::string& key, const std::string& text) {
+    static const std::regex decimal(R"(-?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][-+]?[0-9]+)?)");
+    if (!starts_with(key, "msmcl:") || !std::regex_match(text, decimal)) return text;
+    return json::parse(text);
+}
+
 /// A KTX2 or DDS file: its GPU format, key/value data, and the decoded texels where the
 /// format is known.
 json describe_gpu_file(const std::string& path, Container container) {
@@ -234,8 +244,10 @@ json describe_gpu_file(const std::string& path, Container container) {
                  {"vk_format", gpu.vk_format},
                  {"dxgi_format", gpu.dxgi_format}};
     json attributes = json::object();
-    for (const auto& [key, value] : image.metadata) attributes[key] = value;
+    for (const auto& [key, value] : image.metadata) attributes[key] = metadata_value(key, value);
     info["attributes"] = attributes;
+    if (attributes.contains("msmcl:samples") && attributes["msmcl:samples"].is_number_integer())
+        info["samples"] = attributes["msmcl:samples"];
 
     const std::optional<std::string> recorded = image.find_metadata("msmcl:format");
     if (image.format == io::GpuFormat::r32g32b32a32_uint || recorded == std::optional<std::string>("sat")) {
@@ -276,7 +288,8 @@ json describe_gpu_file(const std::string& path, Container container) {
         format = candidates.front();
     if (!format) {
         // msm64 and nlq64 share the texel type: describe the raw 16-bit codes.
-        info["format"] = "msm64 or nlq64";
+        info["format"] = nullptr;
+        info["candidates"] = json::array({format_name(Format::msm64), format_name(Format::nlq64)});
         ChannelStats codes[4] = {{"R", "unorm16", std::make_pair(0.0, 65535.0)},
                                  {"G", "unorm16", std::make_pair(0.0, 65535.0)},
                                  {"B", "unorm16", std::make_pair(0.0, 65535.0)},
@@ -330,6 +343,13 @@ json describe_png(const std::string& path, const std::string& bytes) {
               {"color", color == 0 ? "gray" : color == 2 ? "rgb" : color == 6 ? "rgba" : "other"}}}};
 }
 
+/// The version of the description's layout; a change of a key's meaning gets a new one.
+constexpr const char* info_schema = "msmcl-info/1";
+constexpr const char* info_keys[] = {"file", "container", "kind", "width", "height", "layers", "texture_array",
+                                     "format", "candidates", "samples", "translucent_layers", "gpu_format",
+                                     "vk_format", "dxgi_format", "max_kernel_texels", "scale", "precision_bits",
+                                     "attributes", "channels", "problem"};
+
 json describe(const std::string& path, DepthRange depth_range) {
     // The first bytes tell PNG and JSON apart from the texture containers.
     // A regular file or standard input only: a FIFO or device is refused, not waited on.
@@ -344,6 +364,11 @@ json describe(const std::string& path, DepthRange depth_range) {
         info = container == Container::exr ? describe_exr(path, depth_range) : describe_gpu_file(path, container);
     }
     info["file"] = path;
+    // Every description has the same keys (docs/schemas/msmcl-info-1.schema.json): null where
+    // the container or the kind of file does not know.
+    info["schema"] = info_schema;
+    for (const char* key : info_keys)
+        if (!info.contains(key)) info[key] = nullptr;
     return info;
 }
 
@@ -360,20 +385,29 @@ void print_text(std::ostream& out, const json& info) {
     out << info["file"].get<std::string>() << ": " << info["kind"].get<std::string>() << ", "
         << info["width"].get<long long>() << "x" << info["height"].get<long long>() << ", "
         << info["container"].get<std::string>();
-    for (const char* key : {"format", "gpu_format", "samples", "layers", "max_kernel_texels", "precision_bits"})
-        if (info.contains(key)) {
-            const json& value = info[key];
+    // Null keys (what the container does not know) are left out; an EXR's single layer too.
+    const bool exr = info["container"] == "exr";
+    for (const char* key : {"format", "gpu_format", "samples", "layers", "translucent_layers", "max_kernel_texels",
+                            "precision_bits"}) {
+        const json& value = info[key];
+        if (value.is_null() && key == std::string("format") && info["candidates"].is_array()) {
+            // Ambiguous: the texel type of several formats and no record of which.
+            std::string names;
+            for (const json& name : info["candidates"]) names += (names.empty() ? "" : " or ") + name.get<std::string>();
+            out << ", format " << names;
+        } else if (!value.is_null() && !(exr && key == std::string("layers"))) {
             out << ", " << key << " " << (value.is_string() ? value.get<std::string>() : number_text(value));
         }
+    }
     // A texture array (KTX2 layerCount >= 1, DDS arraySize > 1), also of one layer.
-    if (info.value("texture_array", false)) out << " (texture array)";
+    if (info["texture_array"] == true) out << " (texture array)";
     out << '\n';
-    if (info.contains("problem")) out << "  problem: " << info["problem"].get<std::string>() << '\n';
-    if (info.contains("attributes"))
+    if (!info["problem"].is_null()) out << "  problem: " << info["problem"].get<std::string>() << '\n';
+    if (info["attributes"].is_object())
         for (const auto& [key, value] : info["attributes"].items())
             out << "  attribute " << key << " = " << (value.is_string() ? value.get<std::string>() : value.dump())
                 << '\n';
-    if (info.contains("channels"))
+    if (info["channels"].is_array())
         for (const json& channel : info["channels"]) {
             out << "  " << channel["name"].get<std::string>() << " (" << channel["type"].get<std::string>()
                 << "): min " << number_text(channel["min"]) << ", max " << number_text(channel["max"]) << ", NaN "
