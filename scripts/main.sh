@@ -153,5 +153,12 @@ done
 # the PCF ground truth, with shadow and error images (out/quality/).
 "$build/bench/msmcl-quality" --large --out "$out/quality" --json "$out/quality/quality.json" > "$out/quality.md"
 
+# The Python module (docs/python.md): the railing map in every format against 128-bit
+# moments, from a few lines of Python; built where CMake found Python 3, numpy and pybind11.
+if [ -x "$build/python/python" ]; then
+  cmake --build "$build" -j"$jobs" --target msmcl_python
+  "$build/python/python" examples/python/compare_formats.py | tee "$out/compare_formats.txt"
+fi
+
 echo "main job: textures, shadows and previews in $out"
 ls "$out"/*.png | sed 's/^/  /'

@@ -401,6 +401,10 @@ void add_info_command(CLI::App& app, InfoArguments& arguments) {
         ->type_name("RANGE");
 }
 
+std::string describe_json(const std::string& path, DepthRange depth_range) {
+    return describe(path, depth_range).dump();
+}
+
 void run_info(const InfoArguments& arguments) {
     const DepthRange depth_range = parse_depth_range_option(arguments.depth_range);
     // Describe every file first: one that cannot be read stops before anything is printed.

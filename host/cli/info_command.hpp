@@ -10,6 +10,8 @@
 
 #include "cli/commands.hpp"
 
+#include <msmcl/formats.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -28,5 +30,9 @@ void add_info_command(CLI::App& app, InfoArguments& arguments);
 
 /// Prints the description of every file to stdout (text, or one JSON array with --json).
 void run_info(const InfoArguments& arguments);
+
+/// The description of one file as `msmcl info --json` prints it (one object of its array),
+/// as JSON text (the Python module's msmcl.info).
+std::string describe_json(const std::string& path, DepthRange depth_range);
 
 } // namespace msmcl::cli
