@@ -615,6 +615,8 @@ PYBIND11_MODULE(_msmcl, m) {
     m.doc() = "Moment shadow maps on OpenCL: filter depth maps into moment shadow maps and shade receivers, "
               "numpy arrays in and out (docs/python.md).";
     m.attr("__version__") = msmcl::version_string;
+    // Classes and signatures name the package (msmcl.Texture), not its compiled part.
+    m.attr("__name__") = "msmcl";
 
     error_type = new_exception(m, "Error", "Base of every error msmcl raises. Attributes: cl_error (the OpenCL "
                                "error name, e.g. 'CL_OUT_OF_RESOURCES', or None), code (the OpenCL error code or "
@@ -719,7 +721,7 @@ PYBIND11_MODULE(_msmcl, m) {
                 const std::vector<TranslucentLayer> translucent = translucent_layers(layers, image);
                 return run_filter(c, std::move(image), translucent, format, sigma, range, kernel);
             },
-            "depth"_a, "format"_a = "nlq64", "sigma"_a = 2.4f, "depth_range"_a = py::make_tuple(0, 1),
+            "depth"_a, "format"_a = "nlq64", "sigma"_a = 2.4, "depth_range"_a = py::make_tuple(0, 1),
             "kernel"_a = "automatic", "layers"_a = py::none(),
             "Filters a depth map into a moment shadow map, as `msmcl filter` (same bytes).\n\n"
             "depth: float32 (H, W) or (H, W, S), S = 1, 2, 4, 8 or 16 samples per texel, in depth_range.\n"
@@ -732,11 +734,11 @@ PYBIND11_MODULE(_msmcl, m) {
                const std::string& kernel) {
                 return run_filter(c, depth_stack(depths), {}, format, sigma, range, kernel);
             },
-            "depths"_a, "format"_a = "nlq64", "sigma"_a = 2.4f, "depth_range"_a = py::make_tuple(0, 1),
+            "depths"_a, "format"_a = "nlq64", "sigma"_a = 2.4, "depth_range"_a = py::make_tuple(0, 1),
             "kernel"_a = "automatic",
             "Filters L maps of one size into a texture array (one launch for all), as `msmcl filter ... --array`: "
             "depths is (L, H, W[, S]) or a sequence of (H, W[, S]) maps; layer i holds the bytes of filter(depths[i]).")
-        .def("shade", &run_shade, "texture"_a, "receivers"_a, "lookup"_a = "bilinear", "depth_bias"_a = 1e-3f,
+        .def("shade", &run_shade, "texture"_a, "receivers"_a, "lookup"_a = "bilinear", "depth_bias"_a = 1e-3,
             "depth_range"_a = py::none(), "frame"_a = 0u,
             "Shadow intensity (0 lit, 1 shadowed) of each receiver, as `msmcl shade`.\n\n"
             "receivers: (N, 3) or (H, W, 3) of u, v (texel units, texel centres at i + 0.5) and depth as "
@@ -762,14 +764,14 @@ PYBIND11_MODULE(_msmcl, m) {
             "depths"_a, "max_kernel"_a = 729u, "depth_range"_a = py::make_tuple(0, 1), "kernel"_a = "automatic",
             "Tables of L maps of one size as one texture array, as `msmcl sat ... --array`.")
         .def("soft_shade", &run_soft_shade, "table"_a, "receivers"_a, "light_size"_a, "search_size"_a = 0,
-            "min_filter_size"_a = 1.0f, "depth_bias"_a = 1e-3f, "depth_range"_a = py::none(),
-            "receiver_weight"_a = 0.1f, "filter_parts"_a = 2, "published"_a = false,
+            "min_filter_size"_a = 1.0, "depth_bias"_a = 1e-3, "depth_range"_a = py::none(),
+            "receiver_weight"_a = 0.1, "filter_parts"_a = 2, "published"_a = false,
             "Moment soft shadows of a directional light from a SatTable, as `msmcl soft` (same options).\n\n"
             "light_size: penumbra width in texels per unit of internal depth between receiver and blocker. "
             "search_size: blocker search square side (0: floor(sqrt(N))). published: the method as published "
             "(receiver_weight 0, filter_parts 1). receivers as for shade; returns float32 of their shape.")
         .def("scatter", &run_scatter, "scene"_a, "shadow_map"_a, "camera_depth"_a, "moments"_a = 6,
-            "filtered"_a = true, "sigma"_a = 1.0f, "beta"_a = "adaptive", "kernel"_a = "automatic",
+            "filtered"_a = true, "sigma"_a = 1.0, "beta"_a = "adaptive", "kernel"_a = "automatic",
             "filter_kernel"_a = "automatic", "ray_march"_a = 0, "jitter"_a = 0u,
             "Single-scattered radiance per camera pixel, as `msmcl scatter`.\n\n"
             "scene: a dict with the keys of a scene file (light, camera, medium, rectified; see "
@@ -805,4 +807,5 @@ PYBIND11_MODULE(_msmcl, m) {
     m.def("info", &info, "path"_a, "depth_range"_a = py::make_tuple(0, 1),
           "What `msmcl info --json` says of a file (kind, container, size, format, attributes, per channel "
           "ranges and NaN/Inf counts), as a dict.");
+    m.attr("__name__") = "msmcl._msmcl";
 }

@@ -50,12 +50,3 @@ __all__ = [
     "write_texture",
 ]
 
-# The classes and functions belong to the package, not to its compiled part.
-for _name in __all__:
-    _value = globals()[_name]
-    if hasattr(_value, "__module__") and _name != "__version__":
-        try:
-            _value.__module__ = __name__
-        except (AttributeError, TypeError):
-            pass
-del _name, _value

@@ -5,7 +5,7 @@ same files (docs/python.md, *Cost*): N maps filtered by
 against `msmcl filter maps... -o DIR`, in turns, outputs compared byte for byte; then the
 module's calls alone, without file I/O (the depth maps already in memory).
 
-    PYTHONPATH=build/python /usr/bin/python3 python/loop_vs_batch.py --cli build/msmcl \
+    PYTHONPATH=build/python /usr/bin/python3 python/bench/loop_vs_batch.py --cli build/msmcl \
         --scene-tool build/tools/msmcl-scene [--maps 24 --size 512 --samples 4 --format msm64 --reps 3]
 """
 import argparse
