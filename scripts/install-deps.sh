@@ -23,6 +23,8 @@ packages=(
   # The JSON Schema test of `msmcl info --json` and batch summaries (tests/json_schema_test.py);
   # the main job's page opened in a headless browser (tests/out_index_test.py).
   python3-jsonschema chromium
+  # The Python module (python/, docs/python.md): pybind11 over the library, numpy arrays, pytest.
+  python3-dev pybind11-dev python3-numpy python3-pytest
   # Offline GPU compiles (scripts/gpu_compile_report.py): AMDGPU and NVPTX through clang and
   # libclc; libllvm14 and libclang-cpp14 for Intel's ocloc, unpacked below.
   python3 clang-15 llvm-15 libclc-15 libclc-15-dev libllvm14 libclang-cpp14

@@ -157,6 +157,13 @@ done
 # the PCF ground truth, with shadow and error images (out/quality/).
 "$build/bench/msmcl-quality" --large --out "$out/quality" --json "$out/quality/quality.json" > "$out/quality.md"
 
+# The Python module (docs/python.md): the railing map in every format against 128-bit
+# moments, from a few lines of Python; built where CMake found Python 3, numpy and pybind11.
+if [ -x "$build/python/python" ]; then
+  cmake --build "$build" -j"$jobs" --target msmcl_python
+  "$build/python/python" examples/python/compare_formats.py | tee "$out/compare_formats.txt"
+fi
+
 # The page that shows it all: every image with its caption, the quality table and the advice
 # on which format to use (scripts/out_index.py), then checked in headless Chromium: every
 # image decodes, every link resolves (tests/out_index_test.py; skipped without chromium).

@@ -432,6 +432,10 @@ void add_info_command(CLI::App& app, InfoArguments& arguments) {
         ->type_name("RANGE");
 }
 
+std::string describe_json(const std::string& path, DepthRange depth_range) {
+    return describe(path, depth_range).dump();
+}
+
 int run_info(const InfoArguments& arguments) {
     const DepthRange depth_range = parse_depth_range_option(arguments.depth_range);
     // Every readable file is described; each bad one is named on stderr (as exrheader and

@@ -10,6 +10,8 @@
 
 #include "cli/commands.hpp"
 
+#include <msmcl/formats.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -29,5 +31,9 @@ void add_info_command(CLI::App& app, InfoArguments& arguments);
 /// Prints the description of every readable file to stdout (text, or one JSON array with
 /// --json) and names each unreadable one on stderr; returns the exit code (2: one was bad).
 int run_info(const InfoArguments& arguments);
+
+/// The description of one file as `msmcl info --json` prints it (one object of its array),
+/// as JSON text (the Python module's msmcl.info).
+std::string describe_json(const std::string& path, DepthRange depth_range);
 
 } // namespace msmcl::cli
