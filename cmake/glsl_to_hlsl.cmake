@@ -1,7 +1,7 @@
-# Generates shaders/msm.hlsl from shaders/msm.glsl: the function bodies are shared text, only
-# type names, a few intrinsics and texel fetches differ. Usage:
-#   cmake -DINPUT=shaders/msm.glsl -DOUTPUT=shaders/msm.hlsl -P cmake/glsl_to_hlsl.cmake
-# tests/shaders_test.cpp regenerates it and requires the checked-in file to be identical.
+# Generates msm.hlsl from msm.glsl (itself generated: docs/shaders.md): the function bodies
+# are shared text, only type names, a few intrinsics and texel fetches differ. Usage:
+#   cmake -DINPUT=<build>/shaders/msm.glsl -DOUTPUT=<build>/shaders/msm.hlsl -P cmake/glsl_to_hlsl.cmake
+# tests/shaders_test.cpp regenerates it and requires the built file to be identical.
 if(NOT INPUT OR NOT OUTPUT)
   message(FATAL_ERROR "glsl_to_hlsl.cmake: set INPUT and OUTPUT")
 endif()
@@ -38,9 +38,9 @@ replace_token(vec2 float2)
 replace_token(floatBitsToUint asuint)
 replace_token(uintBitsToFloat asfloat)
 
-set(header "// msmcl shader functions (HLSL, Shader Model 5+): GENERATED from shaders/msm.glsl by
-// cmake/glsl_to_hlsl.cmake -- edit the GLSL file and regenerate:
-//   cmake -DINPUT=shaders/msm.glsl -DOUTPUT=shaders/msm.hlsl -P cmake/glsl_to_hlsl.cmake
+set(header "// msmcl shader functions (HLSL, Shader Model 5+): GENERATED from msm.glsl by
+// cmake/glsl_to_hlsl.cmake; msm.glsl is generated from kernels/*.clh and shaders/msm.glsl.in
+// (docs/shaders.md): edit those and rebuild, or run scripts/generate-shaders.sh.
 // Same functions, names and operations as the GLSL file (see its header for the texture
 // formats, how to sample them and the accuracy notes); textures are Texture2D<float4> /
 // Texture2D<uint4> (Texture2DArray for the _array lookups) read with Load, so every sampler

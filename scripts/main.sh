@@ -44,7 +44,7 @@ for entry in "${scenes[@]}"; do
   done
 done
 # The same textures in a renderer: the railing view's shadow from the nlq32 and msm64 KTX2
-# files, uploaded into Vulkan images and shaded by shaders/msm.glsl on the Vulkan device
+# files, uploaded into Vulkan images and shaded by msm.glsl (docs/shaders.md) on the Vulkan device
 # (lavapipe on a CPU-only machine), beside the OpenCL PNG, and the signed difference
 # Vulkan - OpenCL over a dimmed copy of the OpenCL shadow (red: Vulkan darker, blue:
 # lighter; full colour at 1e-6 for nlq32, the same float32 math, and at 1e-4 for msm64,

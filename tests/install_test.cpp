@@ -111,8 +111,10 @@ TEST_F(InstallTest, PutsLibrariesHeadersPackageAndToolsInPlace) {
     const fs::path data = prefix_ / MSMCL_INSTALL_DATADIR / "msmcl";
     EXPECT_TRUE(fs::is_regular_file(data / "kernels" / "msm_shading.clh"));
     EXPECT_TRUE(fs::is_regular_file(data / "kernels" / "msm_portable.clh"));
-    if (fs::exists(fs::path(MSMCL_SOURCE_DIR) / "shaders" / "msm.glsl"))
+    if (fs::exists(fs::path(MSMCL_SOURCE_DIR) / "shaders" / "msm.glsl.in")) {
         EXPECT_TRUE(fs::is_regular_file(data / "shaders" / "msm.glsl"));
+        EXPECT_TRUE(fs::is_regular_file(data / "shaders" / "msm.hlsl"));
+    }
     EXPECT_TRUE(fs::is_regular_file(prefix_ / MSMCL_INSTALL_BINDIR / "msmcl"));
 }
 

@@ -750,15 +750,15 @@ TEST(ShaderFunctions, ArrayLookupsEqualTheLookupsOfTheLayer) {
 }
 
 TEST(ShaderFiles, HlslIsGeneratedFromGlsl) {
-    const fs::path source = MSMCL_SOURCE_DIR;
+    const fs::path source = MSMCL_SOURCE_DIR, shaders = MSMCL_SHADER_DIR;
     const fs::path generated = fs::temp_directory_path() / ("msmcl-msm-" + std::to_string(::getpid()) + ".hlsl");
     const std::string command = std::string("'") + MSMCL_CMAKE_COMMAND + "' -DINPUT='" +
-                                (source / "shaders" / "msm.glsl").string() + "' -DOUTPUT='" + generated.string() +
+                                (shaders / "msm.glsl").string() + "' -DOUTPUT='" + generated.string() +
                                 "' -P '" + (source / "cmake" / "glsl_to_hlsl.cmake").string() + "'";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     const std::string expected = read_text(generated);
     fs::remove(generated);
-    const std::string checked_in = read_text(source / "shaders" / "msm.hlsl");
+    const std::string checked_in = read_text(shaders / "msm.hlsl");
     ASSERT_FALSE(expected.empty());
     EXPECT_TRUE(checked_in == expected)
         << "shaders/msm.hlsl is out of date: cmake -DINPUT=shaders/msm.glsl -DOUTPUT=shaders/msm.hlsl -P "
@@ -888,7 +888,7 @@ Compiled run_validator(const std::string& name, const std::string& text, const s
 }
 
 TEST(ShaderFiles, GlslCompilesForVulkanAndOpenGL) {
-    const std::string glsl = read_text(fs::path(MSMCL_SOURCE_DIR) / "shaders" / "msm.glsl");
+    const std::string glsl = read_text(fs::path(MSMCL_SHADER_DIR) / "msm.glsl");
     const std::string shader = "#version 450\n" + glsl + kGlslMain;
     const Compiled vulkan = run_validator("msm_vulkan.comp", shader, "-V --target-env vulkan1.0");
     EXPECT_EQ(vulkan.exit_code, 0) << vulkan.log;
@@ -897,7 +897,7 @@ TEST(ShaderFiles, GlslCompilesForVulkanAndOpenGL) {
 }
 
 TEST(ShaderFiles, HlslCompilesWithGlslangsHlslFrontEnd) {
-    const std::string hlsl = read_text(fs::path(MSMCL_SOURCE_DIR) / "shaders" / "msm.hlsl");
+    const std::string hlsl = read_text(fs::path(MSMCL_SHADER_DIR) / "msm.hlsl");
     const Compiled compiled = run_validator("msm.hlsl", hlsl + kHlslMain, "-D -V -e main -S comp");
     EXPECT_EQ(compiled.exit_code, 0) << compiled.log;
 }
