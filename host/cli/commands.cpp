@@ -79,6 +79,10 @@ Texture filter_in_stages(Stages& stages, Context& context, const io::Translucent
     stages.run("kernel", [&] {
         filter(context, device.depth_view(), device.layers_view(), texture_buffer.get(), options);
         context.finish();
+        // The distribution the device's built kernels allowed, and why (docs/devices.md).
+        std::string choices;
+        for (const std::string& line : context.kernel_choices()) choices += (choices.empty() ? "" : "; ") + line;
+        stages.note(choices);
     });
     stages.run("download", [&] {
         texture_buffer.read(context, texture.words.data());

@@ -22,9 +22,10 @@ FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested)
 /// Defines of filter_fused_gpu.cl and filter_three_pass.cl; `array`: the texture-array
 /// program (MSM_ARRAY, one launch for every layer of a layered depth map).
 std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array = false);
-/// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE).
+/// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE), or tiles
+/// `tile_width` wide (the narrower tile of a device with smaller groups).
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers,
-                                            bool array = false);
+                                            bool array = false, int tile_width = 0);
 
 // --- sat (host/ops/sat.cpp)
 /// The distribution `requested` resolves to on `device`.
