@@ -12,6 +12,8 @@ packages=(
   glslang-tools
   oclgrind
   mesa-vulkan-drivers libvulkan-dev spirv-tools
+  # Mesa's rusticl (RUSTICL_ENABLE=llvmpipe): the second OpenCL implementation of the ctest label `rusticl`.
+  mesa-opencl-icd
   strace
   # Sanitizer builds and libFuzzer (scripts/ci-sanitize.sh, scripts/ci-fuzz.sh): clang-15 below.
   libclang-common-15-dev
