@@ -276,7 +276,8 @@ FilterPlan plan_filter(detail::ContextImpl& impl, FilterKernel requested, int sa
     std::string reasons; // why the candidates before the chosen one were passed over
     FilterPlan plan;
     if (preferred == FilterKernel::fused_paper) {
-        std::size_t work_items = kFusedGroupSize;
+        const std::optional<int> start = detail::fused_work_items_override();
+        std::size_t work_items = start ? static_cast<std::size_t>(*start) : kFusedGroupSize;
         for (std::size_t next = 0;; ++next) {
             const detail::KernelFit fit = detail::kernel_fit(
                 impl, impl.kernel("filter_fused_gpu.cl", fused_defines(samples, options, layers, array_layers, work_items),
