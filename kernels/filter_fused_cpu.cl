@@ -31,27 +31,13 @@
 
 // Math functions for the quantizers of msm_formats.clh that vectorize across work-items
 // (in this kernel only). PoCL's floor() and ceil() are library code with branches:
-// clang's builtins become single instructions with the same IEEE results. PoCL's log() is
-// an out-of-line call and its exp() branchy: these are inline and branch-free (the
-// algorithms of FreeBSD's e_logf.c and e_expf.c), within 0.95 ulp of the exact result for
-// every float in [1e-3, 3e7] (log) and [-20, 20] (exp), checked exhaustively; Psi4 and its
-// inverse pass only arguments in [0.18, 2.5e6] (log) and [-1.8, 14.8] (exp).
+// clang's builtins become single instructions with the same IEEE results. PoCL's exp() is
+// branchy: this one is inline and branch-free (the algorithm of FreeBSD's e_expf.c),
+// within 0.95 ulp of the exact result for every float in [-20, 20], checked exhaustively;
+// Psi4's inverse passes only arguments in [-1.8, 14.8]. (Psi4's logarithm is msm_logf of
+// msm_moments.clh in every kernel.)
 #define floor(x) __builtin_floorf(x)
 #define ceil(x) __builtin_ceilf(x)
-
-static inline float cpu_logf(float x) {
-    const float ln2_hi = 6.9313812256e-01f, ln2_lo = 9.0580006145e-06f;
-    const float lg1 = 0.66666662693f, lg2 = 0.40000972152f, lg3 = 0.28498786688f, lg4 = 0.24279078841f;
-    // x = 2^k (1 + f) with 1 + f in [sqrt(2)/2, sqrt(2)).
-    const uint bits = as_uint(x) + (0x3f800000u - 0x3f3504f3u);
-    const float k = (float)((int)(bits >> 23) - 0x7f);
-    const float f = as_float((bits & 0x007fffffu) + 0x3f3504f3u) - 1.0f;
-    // log(1 + f) = f - f^2/2 + s (f^2/2 + R(s^2)), s = f / (2 + f).
-    const float s = f / (2.0f + f), z = s * s, w = z * z;
-    const float r = z * (lg1 + w * lg3) + w * (lg2 + w * lg4);
-    const float half_f2 = 0.5f * f * f;
-    return s * (half_f2 + r) + k * ln2_lo - half_f2 + f + k * ln2_hi;
-}
 
 static inline float cpu_expf(float x) {
     const float ln2_hi = 6.9314575195e-01f, ln2_lo = 1.4286067653e-06f, inv_ln2 = 1.4426950216e+00f;
@@ -64,7 +50,6 @@ static inline float cpu_expf(float x) {
     return y * as_float((uint)((int)k + 127) << 23); // times 2^k, |k| < 127
 }
 
-#define log(x) cpu_logf(x)
 #define exp(x) cpu_expf(x)
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
