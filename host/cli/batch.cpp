@@ -95,6 +95,9 @@ void record_failure(FileReport& report, const std::string& input) {
     } catch (const input_error& e) {
         report.outcome = Outcome::bad_input;
         report.error = e.what();
+    } catch (const unfit_kernel_error& e) { // an explicit --kernel the device cannot run: a usage choice
+        report.outcome = Outcome::bad_input;
+        report.error = e.what();
     } catch (const std::bad_alloc&) {
         report.outcome = Outcome::failed;
         report.error = "out of memory";

@@ -3,10 +3,10 @@
 # `rusticl`, docs/devices.md): RUSTICL_ENABLE=llvmpipe, MSMCL_DEVICE=llvmpipe, strict
 # selection. Usage: run_on_rusticl.sh MSMCL_CLI TEST_PROGRAM [ARGS...]
 # No rusticl device: skipped (exit 77), or a failure when MSMCL_REQUIRE_RUSTICL=1 (CI).
-# A driver warning on stderr ("MESA: warning") fails the run; the one known warning of the
-# nlq kernels (load_kernel_arg in control flow, docs/devices.md) is let through and counted.
+# A driver warning on stderr ("MESA: warning") fails the run. Mesa's disk shader cache is off:
+# llvmpipe warns while it compiles a kernel, and a cached kernel would hide the warning.
 set -u
-export RUSTICL_ENABLE=llvmpipe MSMCL_DEVICE=llvmpipe MSMCL_STRICT=1
+export RUSTICL_ENABLE=llvmpipe MSMCL_DEVICE=llvmpipe MSMCL_STRICT=1 MESA_SHADER_CACHE_DISABLE=true
 # llvmpipe runs every kernel in groups of at most 32 work-items: the CPU filter narrows its
 # tile to 24 columns. The filter tests' references shift the nlq moments per tile, so they
 # are told that tile (the tiling MSMCL_CPU_TILE names is the one both sides use).
@@ -26,10 +26,11 @@ trap 'rm -f "$errors"' EXIT
 "$@" 2>"$errors"
 status=$?
 cat "$errors" >&2
-known=$(grep -c "MESA: warning: Treating load_kernel_arg in control flow as uniform" "$errors")
-if grep "MESA: warning" "$errors" | grep -qv "load_kernel_arg in control flow"; then
+# MSMCL_RUSTICL_KNOWN_WARNING (set by tests/CMakeLists.txt for the programs that run the
+# scattering kernels) lets one documented warning through (docs/devices.md); any other fails.
+allowed=${MSMCL_RUSTICL_KNOWN_WARNING:-}
+if grep "MESA: warning" "$errors" | { if [ -n "$allowed" ]; then grep -vF "$allowed"; else cat; fi; } | grep -q .; then
     echo "driver warnings on stderr (above)"
     exit 1
 fi
-[ "$known" -gt 0 ] && echo "known driver warning (load_kernel_arg in control flow) printed $known times"
 exit $status
