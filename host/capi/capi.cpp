@@ -96,13 +96,19 @@ long long enum_value(const Enum& value) {
 static_assert(MSMCL_FORMAT_MOMENTS128 == static_cast<int>(msmcl::Format::moments128) &&
                   MSMCL_FORMAT_MSM64 == static_cast<int>(msmcl::Format::msm64) &&
                   MSMCL_FORMAT_NLQ64 == static_cast<int>(msmcl::Format::nlq64) &&
-                  MSMCL_FORMAT_NLQ32 == static_cast<int>(msmcl::Format::nlq32),
+                  MSMCL_FORMAT_NLQ32 == static_cast<int>(msmcl::Format::nlq32) &&
+                  MSMCL_FORMAT_VSM32 == static_cast<int>(msmcl::Format::vsm32) &&
+                  MSMCL_FORMAT_VSM64 == static_cast<int>(msmcl::Format::vsm64) &&
+                  MSMCL_FORMAT_EVSM2_32 == static_cast<int>(msmcl::Format::evsm2_32) &&
+                  MSMCL_FORMAT_EVSM4_64 == static_cast<int>(msmcl::Format::evsm4_64) &&
+                  MSMCL_FORMAT_EVSM4_128 == static_cast<int>(msmcl::Format::evsm4_128) &&
+                  MSMCL_FORMAT_ESM32 == static_cast<int>(msmcl::Format::esm32),
               "msmcl.h and formats.hpp disagree");
 
 // The format of a C value, if it is one of the format table's.
 std::optional<msmcl::Format> known_format(const msmcl_format& format) {
     const long long value = enum_value(format);
-    if (value < 0 || static_cast<unsigned long long>(value) >= msmcl::detail::kMomentFormats) return std::nullopt;
+    if (value < 0 || static_cast<unsigned long long>(value) >= msmcl::detail::kFilterFormats) return std::nullopt;
     return static_cast<msmcl::Format>(value);
 }
 
@@ -138,6 +144,7 @@ msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, cons
     result.sigma = c.sigma;
     result.depth_range = to_depth_range(c.depth_range, call);
     result.kernel = to_filter_kernel(c.kernel, call);
+    result.exponents = {c.exponent_positive, c.exponent_negative};
     return result;
 }
 
@@ -671,6 +678,8 @@ void msmcl_filter_options_init(msmcl_filter_options* options) {
     options->sigma = defaults.sigma;
     options->depth_range = static_cast<msmcl_depth_range>(defaults.depth_range);
     options->kernel = MSMCL_FILTER_KERNEL_AUTOMATIC;
+    options->exponent_positive = defaults.exponents.positive;
+    options->exponent_negative = defaults.exponents.negative;
 }
 
 msmcl_status msmcl_filter(msmcl_context* context, const float* depth, int width, int height, int samples,
