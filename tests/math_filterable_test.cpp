@@ -1,8 +1,8 @@
-// The shading of the filterable formats (kernels/msm_filterable.clh compiled as C++, the very
+// The shading of the filterable formats (kernels/msm_filterable_shading.clh compiled as C++, the very
 // code the kernels and shaders run) against the double reference of
 // tests/reference/filterable_reference.hpp: the decoders bit for bit, the shading within the
 // effect of float32 rounding on its inputs.
-#include "kernels/msm_filterable.clh"
+#include "kernels/msm_filterable_shading.clh"
 #include "reference/filterable_reference.hpp"
 
 #include <gtest/gtest.h>

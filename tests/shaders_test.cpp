@@ -10,7 +10,7 @@
 // Not covered: running the SPIR-V on a GPU (no Vulkan or GL device in CI). On a GPU the
 // results differ by the GPU's float rounding (see the GLSL file's header).
 // Seed: MSMCL_TEST_SEED (default 6), printed.
-#include "kernels/msm_filterable.clh"
+#include "kernels/msm_filterable_shading.clh"
 #include "kernels/msm_sat.clh"
 #include "kernels/msm_scatter.clh"
 #include "runtime/kernel_sources.hpp"
@@ -543,7 +543,7 @@ TYPED_TEST(ShaderLanguage, LookupsMatchTheShadeKernelsComposition) {
     ASSERT_EQ(TypeParam::texel_index(NAN, width), msm_texel_index(NAN, width));
 }
 
-// VSM, EVSM and ESM (msm_filterable.clh): the shading of random stored values and the whole
+// VSM, EVSM and ESM (msm_filterable_shading.clh): the shading of random stored values and the whole
 // lookups on random textures of each representation (channels as a texture unit returns
 // them: floats) against the composition of the device functions that kernels/shade.cl makes.
 TYPED_TEST(ShaderLanguage, FilterableLookupsMatchTheDeviceFunctions) {
