@@ -1,4 +1,4 @@
-// The warps and shading of docs/math.md, "Filterable shadow maps", in double precision.
+// The warps and shading of docs/math.md, "Shading VSM, EVSM and ESM", in double precision.
 #include "reference/filterable_reference.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Double-precision reference of the filterable shadow maps beside the moment formats
-// (docs/math.md, "Filterable shadow maps"), written from the papers and the docs, never
+// (docs/math.md, "Shading VSM, EVSM and ESM"), written from the papers and the docs, never
 // from kernels/: the warps of VSM (Donnelly and Lauritzen, "Variance Shadow Maps", 2006),
 // EVSM (Lauritzen and McCool, "Layered Variance Shadow Maps", 2008) and ESM (Annen et al.,
 // "Exponential Shadow Maps", 2008), their mean over a depth distribution, and the
