@@ -7,6 +7,8 @@
 // new), and its kernel code (encoder, decoder, shading).
 #pragma once
 
+#include "shading/texel_shading.hpp"
+
 #include <msmcl/formats.hpp>
 #include <msmcl/types.hpp>
 
@@ -61,6 +63,18 @@ inline constexpr GpuFormatInfo kGpuFormats[] = {
      ChannelKind::unorm},
 };
 
+/// The shading options a format gets where the caller leaves them (shade_defaults,
+/// msmcl shade): the depth bias, the lookup and, for VSM and EVSM, the minimum variance.
+struct ShadingDefaults {
+    float depth_bias;   ///< internal depth units (ShadeOptions::depth_bias)
+    Lookup lookup;
+    float min_variance; ///< depth units t^2 (docs/math.md); 0 where the format has no variance bound
+};
+/// Kinds that are not shaded by `shade` (tables, scattering maps).
+inline constexpr ShadingDefaults kNotShaded{0.0f, Lookup::nearest, 0.0f};
+/// The moment formats: docs/math.md's bias of the receiver, bilinear.
+inline constexpr ShadingDefaults kMomentShading{1e-3f, Lookup::bilinear, 0.0f};
+
 /// One kind of texture msmcl writes.
 struct TextureKind {
     const char* name;             ///< format_name, the msmcl:format value of EXR and KTX2 files
@@ -76,23 +90,31 @@ struct TextureKind {
     /// Shading: a bilinear lookup blends the moments and shades once (linear formats), else
     /// it shades four texels and blends the intensities.
     bool blends_moments;
+    /// The host copy of the format's decoding and shading (host/shading/shading.cpp); null
+    /// for the kinds `shade` does not read.
+    const TexelShading* host_shading;
+    /// The shading options of the format where the caller leaves them.
+    ShadingDefaults shading_defaults;
 };
 
 // The moment formats first, in Format order (checked below), then the other kinds.
 inline constexpr TextureKind kTextureKinds[] = {
     {"moments128", Format::moments128, "MSM_FORMAT_MOMENTS128", GpuFormat::r32g32b32a32_sfloat, CL_RGBA, CL_FLOAT, 0,
-     false, true},
+     false, true, &kMoments128Shading, kMomentShading},
     {"msm64", Format::msm64, "MSM_FORMAT_MSM64", GpuFormat::r16g16b16a16_unorm, CL_RGBA, CL_UNORM_INT16,
-     CL_UNSIGNED_INT16, false, true},
+     CL_UNSIGNED_INT16, false, true, &kMsm64Shading, kMomentShading},
     {"nlq64", Format::nlq64, "MSM_FORMAT_NLQ64", GpuFormat::r16g16b16a16_unorm, CL_RGBA, CL_UNORM_INT16,
-     CL_UNSIGNED_INT16, true, false},
-    {"nlq32", Format::nlq32, "MSM_FORMAT_NLQ32", GpuFormat::r32_uint, CL_R, CL_UNSIGNED_INT32, 0, true, false},
+     CL_UNSIGNED_INT16, true, false, &kNlq64Shading, kMomentShading},
+    {"nlq32", Format::nlq32, "MSM_FORMAT_NLQ32", GpuFormat::r32_uint, CL_R, CL_UNSIGNED_INT32, 0, true, false,
+     &kNlq32Shading, kMomentShading},
     // Summed-area tables (build_sat): four uint32 sums of a texel's moments.
-    {"sat", std::nullopt, nullptr, GpuFormat::r32g32b32a32_uint, CL_RGBA, CL_UNSIGNED_INT32, 0, false, false},
+    {"sat", std::nullopt, nullptr, GpuFormat::r32g32b32a32_uint, CL_RGBA, CL_UNSIGNED_INT32, 0, false, false, nullptr,
+     kNotShaded},
     // Prefiltered scattering maps as a renderer uploads them: 6 moments as a 2-layer array
     // (odd powers, even powers), 4 moments in the msm64 layout.
-    {"scatter6", std::nullopt, nullptr, GpuFormat::a2b10g10r10_unorm_pack32, 0, 0, 0, false, false},
-    {"scatter4", std::nullopt, nullptr, GpuFormat::r16g16b16a16_unorm, 0, 0, 0, false, false},
+    {"scatter6", std::nullopt, nullptr, GpuFormat::a2b10g10r10_unorm_pack32, 0, 0, 0, false, false, nullptr,
+     kNotShaded},
+    {"scatter4", std::nullopt, nullptr, GpuFormat::r16g16b16a16_unorm, 0, 0, 0, false, false, nullptr, kNotShaded},
 };
 
 inline constexpr bool moment_formats_in_order() {
