@@ -15,6 +15,7 @@
 #include <msmcl/version.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -156,6 +157,8 @@ msmcl::ShadeOptions to_shade_options(const msmcl_shade_options* options, const c
     result.depth_range = to_depth_range(c.depth_range, call);
     result.frame = c.frame;
     result.screen_width = c.screen_width;
+    if (c.min_variance >= 0.0f || std::isnan(c.min_variance)) result.min_variance = c.min_variance;
+    result.light_bleed_reduction = c.light_bleed_reduction;
     return result;
 }
 
@@ -710,6 +713,10 @@ void msmcl_shade_options_init(msmcl_shade_options* options) {
     options->depth_range = static_cast<msmcl_depth_range>(defaults.depth_range);
     options->frame = defaults.frame;
     options->screen_width = defaults.screen_width;
+    options->min_variance = -1.0f;
+    options->light_bleed_reduction = defaults.light_bleed_reduction;
+    options->exponent_positive = 0.0f;
+    options->exponent_negative = 0.0f;
 }
 
 msmcl_status msmcl_shade(msmcl_context* context, msmcl_format format, int width, int height, const void* texture,
