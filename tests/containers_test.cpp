@@ -484,8 +484,9 @@ TEST_F(CliContainers, UnknownOutputExtensionsAreRefused) {
                    "not an OpenEXR, KTX2 or DDS file", "y.exr");
 }
 
-// DDS records no format and no N: msm64/nlq64 maps and tables are refused unless the user
-// says, and the error names the option; a --format that contradicts the file is refused.
+// DDS records no format and no N: msm64/nlq64 and moments128/evsm4_128 maps and tables are
+// refused unless the user says, and the error names the option; a --format that contradicts
+// the file is refused.
 TEST_F(CliContainers, AmbiguousDdsNeedsTheUserToSay) {
     ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("msm.dds") + " --format msm64"), 0) << err();
     ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("m128.dds") + " --format moments128"), 0) << err();
@@ -494,13 +495,17 @@ TEST_F(CliContainers, AmbiguousDdsNeedsTheUserToSay) {
     expect_refused("shade " + q("msm.dds") + " " + q("receivers.exr") + " " + q("y.exr"), "msm.dds", "--format", "y.exr");
     expect_refused("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y.exr") + " --format nlq32",
                    "m128.dds", "--format says nlq32", "y.exr");
+    // R32G32B32A32_FLOAT texels are moments128 or evsm4_128.
+    expect_refused("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y.exr"), "m128.dds",
+                   "--format moments128 or --format evsm4_128", "y.exr");
     expect_refused("shade " + q("nlq.ktx2") + " " + q("receivers.exr") + " " + q("y.exr") + " --format msm64",
                    "nlq.ktx2", "holds a nlq64 texture", "y.exr");
     expect_refused("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("y.exr") + " --light-size 4", "sat.dds",
                    "--max-kernel", "y.exr");
-    // Said, they are read: moments128 DDS needs nothing.
+    // Said, they are read.
     EXPECT_EQ(cli("shade " + q("msm.dds") + " " + q("receivers.exr") + " " + q("y1.exr") + " --format msm64"), 0) << err();
-    EXPECT_EQ(cli("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y2.exr")), 0) << err();
+    EXPECT_EQ(cli("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y2.exr") + " --format moments128"), 0)
+        << err();
     EXPECT_EQ(cli("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("y3.exr") + " --light-size 4 --max-kernel 729"),
               0) << err();
 }

@@ -56,6 +56,12 @@ inline unsigned floatBitsToUint(float f) {
     std::memcpy(&u, &f, sizeof u);
     return u;
 }
+inline float uintBitsToFloat(unsigned u) {
+    float f;
+    std::memcpy(&f, &u, sizeof f);
+    return f;
+}
+using uint = unsigned;
 struct vec2 {
     float x, y;
     explicit vec2(float s) : x(s), y(s) {}
@@ -136,6 +142,12 @@ inline unsigned asuint(float f) {
     std::memcpy(&u, &f, sizeof u);
     return u;
 }
+inline float asfloat(unsigned u) {
+    float f;
+    std::memcpy(&f, &u, sizeof f);
+    return f;
+}
+using uint = unsigned;
 struct float2 {
     float x, y;
     float2(float a, float b) : x(a), y(b) {}

@@ -56,8 +56,9 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     const std::string format_text = entry_option(entry, "format", arguments.format);
     if (format_text.empty()) throw usage_error("--format is required");
     const std::optional<Format> format = parse_format(format_text);
-    if (!format)
-        throw usage_error(unknown_value_message("--format", format_text, {"moments128", "msm64", "nlq64", "nlq32"}));
+    if (!format) throw usage_error(unknown_value_message("--format", format_text, format_names()));
+    const WarpExponents exponents = parse_exponent_options(*format, entry_option(entry, "exponents", arguments.exponents),
+                                                           entry_option(entry, "exponent", arguments.exponent));
     const std::string sigma_text = entry_option(entry, "sigma", arguments.sigma);
     const float sigma = parse_finite_float("--sigma", sigma_text);
     if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + sigma_text + "'");
@@ -75,6 +76,11 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     options.sigma = sigma;
     options.depth_range = range;
     options.kernel = *kernel;
+    options.exponents = exponents;
+    // A DDS file keeps no record of the exponents: its readers assume the defaults.
+    if (container == Container::dds && exponents != default_exponents(*format))
+        throw usage_error(entry.output + ": a DDS file keeps no record of the exponents and is read with the " +
+                          "defaults; write .ktx2 or .exr for other exponents");
     // Filter on the device, then publish the texture with what it was made from (DDS has
     // no place for the record).
     return map_job(
@@ -95,7 +101,7 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
 int run_filter(const GlobalArguments& global, const FilterArguments& arguments, const BatchArguments& batch) {
     MapCommand command;
     command.name = "filter";
-    command.manifest_keys = {"format", "sigma", "depth-range", "kernel", "out-container"};
+    command.manifest_keys = {"format", "sigma", "depth-range", "kernel", "out-container", "exponents", "exponent"};
     command.out_container = arguments.out_container;
     command.make_job = [&](const BatchEntry& entry) { return filter_job(arguments, entry); };
     return run_map_command(global, batch, command);

@@ -22,6 +22,8 @@ struct FilterArguments {
     std::string depth_range = "0,1";
     std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension (.ktx2, .dds, else exr)
     std::string kernel = "automatic"; ///< automatic, fused_paper, fused_cpu or three_pass
+    std::string exponents; ///< EVSM: "C+" or "C+,C-"; empty: the format's defaults
+    std::string exponent;  ///< ESM: "C"; empty: the default
 };
 
 struct ShadeArguments {

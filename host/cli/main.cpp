@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", global.quiet, "nothing on stderr but errors: no progress line, no batch summary");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--kernel K]
-    //              [--out-container C]
+    //              [--out-container C] [--exponents C+,C- | --exponent C]
     // msmcl filter IN.exr... -o DIR | --list FILE [--shard I/N] [--json FILE|-] (same options)
     // msmcl filter IN.exr... --array OUT.ktx2|OUT.dds (same options): one texture array
     msmcl::cli::FilterArguments filter;
@@ -99,8 +99,17 @@ int main(int argc, char** argv) {
     // texture to write (EXR; .ktx2 or .dds: KTX2 or DDS); or a batch: IN... -o DIR, --list FILE.
     msmcl::cli::BatchArguments filter_batch;
     msmcl::cli::add_batch_options(*filter_command, filter_batch);
-    filter_command->add_option("--format", filter.format, "moments128, msm64, nlq64 or nlq32 (required)")
+    filter_command->add_option("--format", filter.format,
+                               "moments128, msm64, nlq64, nlq32, vsm32, vsm64, evsm2_32, evsm4_64, evsm4_128 or "
+                               "esm32 (required; docs/formats.md)")
         ->type_name("FORMAT");
+    filter_command->add_option("--exponents", filter.exponents,
+                               "EVSM formats: the warp exponents c+ or c+,c- (default: the largest safe for the "
+                               "storage, docs/formats.md)")
+        ->type_name("C+,C-");
+    filter_command->add_option("--exponent", filter.exponent,
+                               "esm32: the warp exponent c (default 80, at most 88)")
+        ->type_name("C");
     filter_command->add_option("--sigma", filter.sigma, "Gaussian sigma in texels, >= 0 (0 = no blur)")
         ->capture_default_str()
         ->type_name("FLOAT");

@@ -128,6 +128,15 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_
     detail::set_arg(kernel, 4, static_cast<cl_uint>(count));
     detail::set_arg(kernel, 5, intensity);
     detail::set_arg(kernel, 6, options.depth_bias);
+    // The warped formats' shading (docs/math.md): the texture's exponents, V and R; after the
+    // lookup's own arguments (12 for dither, else 7).
+    const WarpExponents exponents = effective_exponents(map.format, map.exponents, "shade");
+    const cl_uint first = dither ? 12 : 7;
+    detail::set_arg(kernel, first, exponents.positive);
+    detail::set_arg(kernel, first + 1, exponents.negative);
+    detail::set_arg(kernel, first + 2,
+                    options.min_variance.value_or(detail::texture_kind(map.format).shading_defaults.min_variance));
+    detail::set_arg(kernel, first + 3, options.light_bleed_reduction);
     cl::Buffer noise_buffer;
     if (dither) {
         // The frame's blue-noise texture (8 KiB) and its shift; pixels given or row-major.
@@ -195,7 +204,7 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
     }
 
     stages.uploaded({&map_buffer, &receiver_buffer, &pixel_buffer});
-    shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height}, receiver_buffer(), pixel_buffer(),
+    shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height, map.exponents}, receiver_buffer(), pixel_buffer(),
           count, result_buffer(), options, Enqueue{});
     stages.computed();
     std::vector<float> intensity = detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");

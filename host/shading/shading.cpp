@@ -6,8 +6,10 @@
 #include <msmcl/device_math.hpp>
 #include <msmcl/errors.hpp>
 
+#include "kernels/msm_filterable_shading.clh"
 #include "kernels/msm_shading.clh"
 
+#include <cmath>
 #include <string>
 
 namespace msmcl {
@@ -133,6 +135,79 @@ const TexelShading kNlq32Shading{
     false, 4, {"y1", "y2", "v2", "xi4"},
     [](const std::uint32_t* w, float values[4]) { put_nlq(msm_decode_nlq32(w[0]), values); }, nlq_ranges};
 
+namespace {
+
+// ---- VSM, EVSM and ESM (msm_filterable_shading.clh): the texel's channels decoded, blended
+// (bilinear) and shaded with the texture's exponents and the options' V and R.
+
+msm_moments raw_channels4(const std::uint32_t* w) { return raw_moments128(w); }
+msm_moments vsm32_channels(const std::uint32_t* w) { return msm_decode_vsm32(w[0]); }
+msm_moments vsm64_channels(const std::uint32_t* w) { return msm_decode_vsm64(word2_of(w)); }
+msm_moments evsm2_32_channels(const std::uint32_t* w) { return msm_decode_evsm2_32(w[0]); }
+msm_moments evsm4_64_channels(const std::uint32_t* w) { return msm_decode_evsm4_64(word2_of(w)); }
+msm_moments esm32_channels(const std::uint32_t* w) { return msm_decode_esm32(w[0]); }
+
+msm_warp_shading vsm_shading(const ShadingParameters& p) {
+    return msm_warp_shading_vsm(p.min_variance, p.light_bleed_reduction);
+}
+msm_warp_shading evsm2_shading(const ShadingParameters& p) {
+    return msm_warp_shading_evsm2(p.positive, p.min_variance, p.light_bleed_reduction);
+}
+msm_warp_shading evsm4_shading(const ShadingParameters& p) {
+    return msm_warp_shading_evsm4(p.positive, p.negative, p.min_variance, p.light_bleed_reduction);
+}
+msm_warp_shading esm_shading(const ShadingParameters& p) { return msm_warp_shading_esm(p.positive); }
+
+template <msm_moments (*Channels)(const std::uint32_t*), msm_warp_shading (*Shading)(const ShadingParameters&)>
+float warped_texel(const std::uint32_t* w, float zf, const ShadingParameters& p) {
+    return msm_shadow_warped(Channels(w), zf, Shading(p));
+}
+template <msm_moments (*Channels)(const std::uint32_t*), msm_warp_shading (*Shading)(const ShadingParameters&)>
+float warped_blend(const std::uint32_t* const t[4], float tx, float ty, float zf, const ShadingParameters& p) {
+    return msm_shadow_warped(msm_moments_bilinear(Channels(t[0]), Channels(t[1]), Channels(t[2]), Channels(t[3]), tx, ty),
+                             zf, Shading(p));
+}
+template <msm_moments (*Channels)(const std::uint32_t*)>
+void warped_decode(const std::uint32_t* w, float values[4]) {
+    put_moments(Channels(w), values);
+}
+
+// The ranges of the stored warps, widened by half precision's relative rounding (2^-11).
+constexpr double kWarpSlack = 1.0 / 2048.0;
+void vsm_ranges(float, float, double min[4], double max[4]) {
+    min[0] = min[1] = 0.0, max[0] = max[1] = 1.0;
+}
+// p = exp(c+ x) in [exp(-c+), exp(c+)], p^2 likewise squared; n = -exp(-c- x), n^2.
+void evsm_ranges(float positive, float negative, double min[4], double max[4]) {
+    const double cp = positive, cn = negative;
+    min[0] = std::exp(-cp) * (1 - kWarpSlack), max[0] = std::exp(cp) * (1 + kWarpSlack);
+    min[1] = std::exp(-2 * cp) * (1 - kWarpSlack), max[1] = std::exp(2 * cp) * (1 + kWarpSlack);
+    min[2] = -std::exp(cn) * (1 + kWarpSlack), max[2] = -std::exp(-cn) * (1 - kWarpSlack);
+    min[3] = std::exp(-2 * cn) * (1 - kWarpSlack), max[3] = std::exp(2 * cn) * (1 + kWarpSlack);
+}
+// exp(c (t - 1)) in [exp(-c), 1].
+void esm_ranges(float positive, float, double min[4], double max[4]) {
+    min[0] = std::exp(-double(positive)) * (1 - kWarpSlack), max[0] = 1.0;
+}
+
+} // namespace
+
+const TexelShading kVsm32Shading{warped_texel<vsm32_channels, vsm_shading>, warped_blend<vsm32_channels, vsm_shading>,
+                                 true, 2, {"t", "t2"}, warped_decode<vsm32_channels>, vsm_ranges};
+const TexelShading kVsm64Shading{warped_texel<vsm64_channels, vsm_shading>, warped_blend<vsm64_channels, vsm_shading>,
+                                 true, 2, {"t", "t2"}, warped_decode<vsm64_channels>, vsm_ranges};
+const TexelShading kEvsm2_32Shading{warped_texel<evsm2_32_channels, evsm2_shading>,
+                                    warped_blend<evsm2_32_channels, evsm2_shading>, true, 2, {"p", "p2"},
+                                    warped_decode<evsm2_32_channels>, evsm_ranges};
+const TexelShading kEvsm4_64Shading{warped_texel<evsm4_64_channels, evsm4_shading>,
+                                    warped_blend<evsm4_64_channels, evsm4_shading>, true, 4, {"p", "p2", "n", "n2"},
+                                    warped_decode<evsm4_64_channels>, evsm_ranges};
+const TexelShading kEvsm4_128Shading{warped_texel<raw_channels4, evsm4_shading>,
+                                     warped_blend<raw_channels4, evsm4_shading>, true, 4, {"p", "p2", "n", "n2"},
+                                     warped_decode<raw_channels4>, evsm_ranges};
+const TexelShading kEsm32Shading{warped_texel<esm32_channels, esm_shading>, warped_blend<esm32_channels, esm_shading>,
+                                 false, 1, {"e"}, warped_decode<esm32_channels>, esm_ranges};
+
 } // namespace detail
 
 namespace {
@@ -147,6 +222,11 @@ const detail::TexelShading& host_shading(Format format) {
 // What shading a texel of `map` needs from the options and the texture.
 detail::ShadingParameters shading_parameters(const Texture& map, const ShadeOptions& options) {
     detail::ShadingParameters p;
+    // The exponents the texture was made with (0: the format's default); beyond the format's
+    // limit, input_error.
+    const WarpExponents exponents = effective_exponents(map.format, map.exponents, "shade");
+    p.positive = exponents.positive;
+    p.negative = exponents.negative;
     p.min_variance = options.min_variance.value_or(detail::texture_kind(map.format).shading_defaults.min_variance);
     p.light_bleed_reduction = options.light_bleed_reduction;
     return p;
@@ -167,7 +247,8 @@ float shade_texel(const Texture& map, int x, int y, float zf, const ShadeOptions
 std::vector<DecodedQuantity> decoded_quantities(const Texture& texture) {
     const detail::TexelShading& shading = host_shading(texture.format);
     double min[4], max[4];
-    shading.ranges(0.0f, 0.0f, min, max);
+    const WarpExponents exponents = effective_exponents(texture.format, texture.exponents, "texture");
+    shading.ranges(exponents.positive, exponents.negative, min, max);
     std::vector<DecodedQuantity> quantities;
     for (int c = 0; c < shading.quantities; ++c) quantities.push_back({shading.names[c], min[c], max[c]});
     return quantities;

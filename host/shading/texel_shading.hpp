@@ -37,6 +37,7 @@ struct TexelShading {
 };
 
 // One per format (host/shading/shading.cpp), named by the format table's rows.
-extern const TexelShading kMoments128Shading, kMsm64Shading, kNlq64Shading, kNlq32Shading;
+extern const TexelShading kMoments128Shading, kMsm64Shading, kNlq64Shading, kNlq32Shading, kVsm32Shading,
+    kVsm64Shading, kEvsm2_32Shading, kEvsm4_64Shading, kEvsm4_128Shading, kEsm32Shading;
 
 } // namespace msmcl::detail

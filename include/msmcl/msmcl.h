@@ -79,7 +79,14 @@ typedef enum msmcl_format {
     MSMCL_FORMAT_MOMENTS128 = 0, /* 16 bytes: float b1..b4;            CL_RGBA/CL_FLOAT */
     MSMCL_FORMAT_MSM64 = 1,      /* 8 bytes: unorm16 affine basis;      CL_RGBA/CL_UNORM_INT16 */
     MSMCL_FORMAT_NLQ64 = 2,      /* 8 bytes: unorm16 y1, y2, v2, Psi4;  CL_RGBA/CL_UNORM_INT16 */
-    MSMCL_FORMAT_NLQ32 = 3       /* 4 bytes: packed uint32;             CL_R/CL_UNSIGNED_INT32 */
+    MSMCL_FORMAT_NLQ32 = 3,      /* 4 bytes: packed uint32;             CL_R/CL_UNSIGNED_INT32 */
+    /* The other filterable representations (docs/formats.md, "Filterable representations"). */
+    MSMCL_FORMAT_VSM32 = 4,      /* 4 bytes: unorm16 t, t^2;             CL_RG/CL_UNORM_INT16 */
+    MSMCL_FORMAT_VSM64 = 5,      /* 8 bytes: float t, t^2;               CL_RG/CL_FLOAT */
+    MSMCL_FORMAT_EVSM2_32 = 6,   /* 4 bytes: half p, p^2;                CL_RG/CL_HALF_FLOAT */
+    MSMCL_FORMAT_EVSM4_64 = 7,   /* 8 bytes: half p, p^2, n, n^2;        CL_RGBA/CL_HALF_FLOAT */
+    MSMCL_FORMAT_EVSM4_128 = 8,  /* 16 bytes: float p, p^2, n, n^2;      CL_RGBA/CL_FLOAT */
+    MSMCL_FORMAT_ESM32 = 9       /* 4 bytes: float exp(c (t - 1));       CL_R/CL_FLOAT */
 } msmcl_format;
 
 typedef enum msmcl_depth_range {
@@ -110,7 +117,8 @@ typedef enum msmcl_sample_layout {
 
 /* Bytes per texel of a format (16, 8, 8, 4); 0 for an unknown value. */
 MSMCL_C_API size_t msmcl_texel_bytes(msmcl_format format);
-/* "moments128", "msm64", "nlq64", "nlq32"; NULL for an unknown value. */
+/* "moments128", "msm64", "nlq64", "nlq32", "vsm32", "vsm64", "evsm2_32", "evsm4_64",
+ * "evsm4_128", "esm32"; NULL for an unknown value. */
 MSMCL_C_API const char* msmcl_format_name(msmcl_format format);
 /* Inverse of msmcl_format_name: MSMCL_ERROR_INVALID_ARGUMENT for an unknown name. */
 MSMCL_C_API msmcl_status msmcl_parse_format(const char* name, msmcl_format* format);
@@ -172,6 +180,10 @@ typedef struct msmcl_filter_options {
     float sigma;                   /* Gaussian sigma in texels, default 2.4; 0 = no blur */
     msmcl_depth_range depth_range; /* default MSMCL_DEPTH_RANGE_ZERO_ONE */
     msmcl_filter_kernel kernel;    /* default MSMCL_FILTER_KERNEL_AUTOMATIC */
+    /* EVSM's c+ and c-, ESM's c (in exponent_positive); default 0 = the format's default;
+     * only for the formats with a warp (include/msmcl/formats.hpp, effective_exponents). */
+    float exponent_positive;
+    float exponent_negative;
 } msmcl_filter_options;
 
 MSMCL_C_API void msmcl_filter_options_init(msmcl_filter_options* options);

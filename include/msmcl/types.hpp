@@ -94,6 +94,9 @@ struct FilterOptions {
     DepthRange depth_range = DepthRange::zero_one;
     FilterKernel kernel = FilterKernel::automatic;
     StageObserver on_stage; ///< the host call's stage timings (none: not timed)
+    /// EVSM's c+ and c-, ESM's c (in `positive`); 0 = the format's default. Only for the
+    /// formats with a warp (effective_exponents, include/msmcl/formats.hpp).
+    WarpExponents exponents;
 };
 
 // ---- Filtered maps and their shading (shade)
@@ -104,6 +107,7 @@ struct DeviceTexture {
     Format format = Format::nlq64;
     int width = 0;
     int height = 0;
+    WarpExponents exponents; ///< as Texture::exponents: what the filter used
 };
 
 /// How shade() reads the map at a receiver.
