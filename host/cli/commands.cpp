@@ -161,7 +161,7 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     if (!arguments.format.empty()) {
         format = parse_format(arguments.format);
         if (!format)
-            throw usage_error(unknown_value_message("--format", arguments.format, {"moments128", "msm64", "nlq64", "nlq32"}));
+            throw usage_error(unknown_value_message("--format", arguments.format, format_names()));
         // A shading option the named format has no use for: refused before any file is read.
         shade_options_for(*format, arguments, lookup, min_variance, light_bleed_reduction);
     }
