@@ -91,7 +91,7 @@ void expect_matches_reference(const Texture& texture, const FormatCase& f, const
                               WarpExponents c, const std::string& what) {
     ASSERT_EQ(texture.format, f.format) << what;
     EXPECT_EQ(texture.exponents, c) << what;
-    const std::vector<ref::Lanes> expected =
+    const std::vector<ref::Channels> expected =
         ref::filter_warped(to_reference(depth, range), 2.4, f.warp, c.positive, c.negative);
     double worst = 0.0;
     std::string worst_at;

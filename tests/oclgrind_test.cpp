@@ -203,6 +203,9 @@ std::vector<std::uint32_t> bits_of(const std::vector<float>& values) {
 
 class Oclgrind : public msmcl::testing::SeededTest {
 protected:
+    /// Every lookup of `format` on a filtered map, under Oclgrind against PoCL (Shading, below).
+    void shade_lookups(Format format);
+
     void SetUp() override {
         SeededTest::SetUp();
         const OclgrindPlatform& platform = OclgrindPlatform::get();
@@ -541,10 +544,19 @@ INSTANTIATE_TEST_SUITE_P(Formats, OclgrindFilterable, ::testing::ValuesIn(kFilte
 
 // ---- Shading.
 
+// Shading of the formats that are no moment formats (VSM, EVSM, ESM), from textures the
+// filter makes: the same lookups as ShadeLookups below.
+class OclgrindShade : public Oclgrind, public ::testing::WithParamInterface<Format> {};
+const Format kWarpedFormats[] = {Format::vsm32,    Format::vsm64,     Format::evsm2_32,
+                                 Format::evsm4_64, Format::evsm4_128, Format::esm32};
+TEST_P(OclgrindShade, WarpedFormatLookups) { shade_lookups(GetParam()); }
+INSTANTIATE_TEST_SUITE_P(Formats, OclgrindShade, ::testing::ValuesIn(kWarpedFormats), format_test_name);
+
 // Every lookup of every format, at receivers inside and around the map (clamped); the
 // dithered lookup with row-major pixels and with explicit ones.
-TEST_P(OclgrindFormat, ShadeLookups) {
-    const Format format = GetParam();
+TEST_P(OclgrindFormat, ShadeLookups) { shade_lookups(GetParam()); }
+
+void Oclgrind::shade_lookups(Format format) {
     const DepthImage map_depth = depth(4);
     const Texture map = on_pocl<Texture>([&](Context& context) {
         FilterOptions options;

@@ -30,11 +30,13 @@ struct ShadeArguments {
     std::string map;
     std::string receivers;
     std::string output;
-    std::string lookup = "bilinear";
-    std::string depth_bias = "1e-3";
+    std::string lookup;      ///< empty: the format's (the format table, shade_defaults)
+    std::string depth_bias;  ///< empty: the format's
     std::string depth_range; ///< empty: the map's msmcl:depthRange
     std::string frame = "0"; ///< dither: the frame number (blue-noise texture and shift)
     std::string format;      ///< empty: the map's; required for DDS maps of msm64/nlq64 texels
+    std::string min_variance;          ///< VSM, EVSM; empty: the format's
+    std::string light_bleed_reduction; ///< VSM, EVSM; empty: 0
 };
 
 /// Global options shared by every subcommand.

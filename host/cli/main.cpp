@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
         ->type_name("CONTAINER");
 
     // msmcl shade MAP.exr RECEIVERS.exr OUT.exr [--lookup L] [--frame N] [--depth-bias B] [--depth-range R]
+    //   [--min-variance V] [--light-bleed-reduction R]
     msmcl::cli::ShadeArguments shade;
     CLI::App* shade_command =
         app.add_subcommand("shade", "Filtered map + receivers (EXR U,V,Z) -> shadow intensity (EXR Y)");
@@ -135,15 +136,22 @@ int main(int argc, char** argv) {
                               "receivers EXR (FLOAT U, V in texels, Z depth; optional PX, PY screen pixels)")
         ->required();
     shade_command->add_option("output", shade.output, "intensity EXR to write (channel Y)")->required();
-    shade_command->add_option("--lookup", shade.lookup, "nearest, bilinear or dither (blue noise, one texel)")
-        ->capture_default_str()
+    shade_command->add_option("--lookup", shade.lookup,
+                              "nearest, bilinear or dither (blue noise, one texel); default: the format's (bilinear)")
         ->type_name("LOOKUP");
     shade_command->add_option("--frame", shade.frame, "dither: frame number (picks the blue-noise texture and shift)")
         ->capture_default_str()
         ->type_name("N");
-    shade_command->add_option("--depth-bias", shade.depth_bias, "subtracted from the receiver's internal depth")
-        ->capture_default_str()
+    shade_command->add_option("--depth-bias", shade.depth_bias,
+                              "subtracted from the receiver's internal depth; default: the format's (1e-3)")
         ->type_name("FLOAT");
+    shade_command->add_option("--min-variance", shade.min_variance,
+                              "VSM and EVSM maps: least variance of the depth in [0,1] for Chebyshev's bound, "
+                              "in [0, 0.25]; default: the format's (docs/formats.md)")
+        ->type_name("V");
+    shade_command->add_option("--light-bleed-reduction", shade.light_bleed_reduction,
+                              "VSM and EVSM maps: rescale the bound from [R,1] to [0,1], R in [0,1); default 0")
+        ->type_name("R");
     shade_command->add_option("--depth-range", shade.depth_range,
                               "depth convention of the receivers: 0,1 or -1,1 (default: the map's)")
         ->type_name("RANGE");

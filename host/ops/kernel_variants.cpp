@@ -200,7 +200,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
     // soft shadows, shade.
     for (DepthRange range : {DepthRange::zero_one, DepthRange::minus_one_one})
         variants.push_back({"soft", "sat_soft.cl", soft_defines(range), {{"sat_soft_shade", true}}, range_text(range)});
-    for (Format format : formats_of(Representation::moments)) {
+    for (Format format : filter_formats()) {
         for (Lookup lookup : {Lookup::nearest, Lookup::bilinear, Lookup::dither}) {
             for (DepthRange range : {DepthRange::zero_one, DepthRange::minus_one_one}) {
                 if (!full && range == DepthRange::minus_one_one && lookup != Lookup::bilinear) continue;

@@ -8,6 +8,8 @@
 // new), and its kernel code (warp, encoder, decoder, shading).
 #pragma once
 
+#include "shading/texel_shading.hpp"
+
 #include <msmcl/formats.hpp>
 #include <msmcl/types.hpp>
 
@@ -115,6 +117,28 @@ inline constexpr WarpLimits kEvsm2Half{{5.54f, 0.f}, {5.54f, 0.f}};
 inline constexpr WarpLimits kEvsmFloat{{40.f, 5.f}, {42.f, 42.f}};
 inline constexpr WarpLimits kEsmFloat{{80.f, 0.f}, {88.f, 0.f}};
 
+/// The shading options a format gets where the caller leaves them (shade_defaults,
+/// msmcl shade): the depth bias, the lookup and, for VSM and EVSM, the minimum variance.
+struct ShadingDefaults {
+    float depth_bias;   ///< internal depth units (ShadeOptions::depth_bias)
+    Lookup lookup;
+    float min_variance; ///< depth units t^2 (docs/math.md); 0 where the format has no variance bound
+};
+/// Kinds that are not shaded by `shade` (tables, scattering maps).
+inline constexpr ShadingDefaults kNotShaded{0.0f, Lookup::nearest, 0.0f};
+/// The moment formats: docs/math.md's bias of the receiver, bilinear.
+inline constexpr ShadingDefaults kMomentDefaults{1e-3f, Lookup::bilinear, 0.0f};
+// VSM and EVSM: the same bias and lookup, a minimum variance above what the storage's rounding
+// does to the variance m2 - m1^2 (docs/formats.md, "Shading defaults"): unorm16 (t, t^2) up to
+// 2.3e-5; half EVSM 3 * 2^-11 w^2, i.e. V = 1.2e-5 through the slope 2 c w at c = 5.54; float
+// (t, t^2) ~1e-7 after the blur; float EVSM 3 * 2^-24 w^2, V = 1.8e-9 at c- = 5.
+inline constexpr ShadingDefaults kVsm32Defaults{1e-3f, Lookup::bilinear, 3e-5f};
+inline constexpr ShadingDefaults kVsm64Defaults{1e-3f, Lookup::bilinear, 1e-6f};
+inline constexpr ShadingDefaults kEvsmHalfDefaults{1e-3f, Lookup::bilinear, 2e-5f};
+inline constexpr ShadingDefaults kEvsmFloatDefaults{1e-3f, Lookup::bilinear, 2e-8f};
+// ESM: the same bias and lookup (no variance).
+inline constexpr ShadingDefaults kEsmDefaults{1e-3f, Lookup::bilinear, 0.0f};
+
 /// One kind of texture msmcl writes.
 struct TextureKind {
     const char* name;             ///< format_name, the msmcl:format value of EXR and KTX2 files
@@ -135,39 +159,44 @@ struct TextureKind {
     Representation representation;
     /// The warp's exponents (kNoWarp: none).
     WarpLimits warp;
+    /// The host copy of the format's decoding and shading (host/shading/shading.cpp); null
+    /// for the kinds `shade` does not read.
+    const TexelShading* host_shading;
+    /// The shading options of the format where the caller leaves them.
+    ShadingDefaults shading_defaults;
 };
 
 // The filter formats first, in Format order (checked below), then the other kinds.
 inline constexpr TextureKind kTextureKinds[] = {
     {"moments128", Format::moments128, "MSM_FORMAT_MOMENTS128", GpuFormat::r32g32b32a32_sfloat, CL_RGBA, CL_FLOAT, 0,
-     false, true, Representation::moments, kNoWarp},
+     false, true, Representation::moments, kNoWarp, &kMoments128Shading, kMomentDefaults},
     {"msm64", Format::msm64, "MSM_FORMAT_MSM64", GpuFormat::r16g16b16a16_unorm, CL_RGBA, CL_UNORM_INT16,
-     CL_UNSIGNED_INT16, false, true, Representation::moments, kNoWarp},
+     CL_UNSIGNED_INT16, false, true, Representation::moments, kNoWarp, &kMsm64Shading, kMomentDefaults},
     {"nlq64", Format::nlq64, "MSM_FORMAT_NLQ64", GpuFormat::r16g16b16a16_unorm, CL_RGBA, CL_UNORM_INT16,
-     CL_UNSIGNED_INT16, true, false, Representation::moments, kNoWarp},
+     CL_UNSIGNED_INT16, true, false, Representation::moments, kNoWarp, &kNlq64Shading, kMomentDefaults},
     {"nlq32", Format::nlq32, "MSM_FORMAT_NLQ32", GpuFormat::r32_uint, CL_R, CL_UNSIGNED_INT32, 0, true, false,
-     Representation::moments, kNoWarp},
+     Representation::moments, kNoWarp, &kNlq32Shading, kMomentDefaults},
     {"vsm32", Format::vsm32, "MSM_FORMAT_VSM32", GpuFormat::r16g16_unorm, CL_RG, CL_UNORM_INT16, CL_UNSIGNED_INT16,
-     false, true, Representation::vsm, kNoWarp},
+     false, true, Representation::vsm, kNoWarp, &kVsm32Shading, kVsm32Defaults},
     {"vsm64", Format::vsm64, "MSM_FORMAT_VSM64", GpuFormat::r32g32_sfloat, CL_RG, CL_FLOAT, 0, false, true,
-     Representation::vsm, kNoWarp},
+     Representation::vsm, kNoWarp, &kVsm64Shading, kVsm64Defaults},
     {"evsm2_32", Format::evsm2_32, "MSM_FORMAT_EVSM2_32", GpuFormat::r16g16_sfloat, CL_RG, CL_HALF_FLOAT, 0, false,
-     true, Representation::evsm2, kEvsm2Half},
+     true, Representation::evsm2, kEvsm2Half, &kEvsm2_32Shading, kEvsmHalfDefaults},
     {"evsm4_64", Format::evsm4_64, "MSM_FORMAT_EVSM4_64", GpuFormat::r16g16b16a16_sfloat, CL_RGBA, CL_HALF_FLOAT, 0,
-     false, true, Representation::evsm4, kEvsmHalf},
+     false, true, Representation::evsm4, kEvsmHalf, &kEvsm4_64Shading, kEvsmHalfDefaults},
     {"evsm4_128", Format::evsm4_128, "MSM_FORMAT_EVSM4_128", GpuFormat::r32g32b32a32_sfloat, CL_RGBA, CL_FLOAT, 0,
-     false, true, Representation::evsm4, kEvsmFloat},
+     false, true, Representation::evsm4, kEvsmFloat, &kEvsm4_128Shading, kEvsmFloatDefaults},
     {"esm32", Format::esm32, "MSM_FORMAT_ESM32", GpuFormat::r32_sfloat, CL_R, CL_FLOAT, 0, false, true,
-     Representation::esm, kEsmFloat},
+     Representation::esm, kEsmFloat, &kEsm32Shading, kEsmDefaults},
     // Summed-area tables (build_sat): four uint32 sums of a texel's moments.
     {"sat", std::nullopt, nullptr, GpuFormat::r32g32b32a32_uint, CL_RGBA, CL_UNSIGNED_INT32, 0, false, false,
-     Representation::moments, kNoWarp},
+     Representation::moments, kNoWarp, nullptr, kNotShaded},
     // Prefiltered scattering maps as a renderer uploads them: 6 moments as a 2-layer array
     // (odd powers, even powers), 4 moments in the msm64 layout.
     {"scatter6", std::nullopt, nullptr, GpuFormat::a2b10g10r10_unorm_pack32, 0, 0, 0, false, false,
-     Representation::moments, kNoWarp},
+     Representation::moments, kNoWarp, nullptr, kNotShaded},
     {"scatter4", std::nullopt, nullptr, GpuFormat::r16g16b16a16_unorm, 0, 0, 0, false, false, Representation::moments,
-     kNoWarp},
+     kNoWarp, nullptr, kNotShaded},
 };
 
 inline constexpr bool filter_formats_in_order() {

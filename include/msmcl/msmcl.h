@@ -8,7 +8,8 @@
  * valid until the next such call on the same thread.
  *
  * Versions: before 1.0 every 0.x minor version may break the ABI (SONAME libmsmcl.so.0.1).
- * The option structs grew in 0.1 (msmcl_shade_options: frame, screen_width;
+ * The option structs grew in 0.1 (msmcl_shade_options: frame, screen_width, then
+ * min_variance, light_bleed_reduction, exponent_positive, exponent_negative;
  * msmcl_sat_options: kernel); new fields
  * only ever go at the end, so callers that fill a struct with its *_init function and
  * then set fields stay source compatible, but must be rebuilt.
@@ -269,6 +270,14 @@ typedef struct msmcl_shade_options {
     uint32_t frame;        /* the frame number: its hash picks the blue-noise texture and shift; default 0 */
     uint32_t screen_width; /* receivers without pixels: receiver i is pixel (i % screen_width,
                               i / screen_width) of a row-major image; 0 = one row (pixel (i, 0)); default 0 */
+    /* VSM and EVSM maps only (docs/math.md, "Shading VSM, EVSM and ESM"). */
+    float min_variance;          /* least variance of the depth in [0,1], in [0, 0.25]; negative
+                                    (the default, -1) = the format's (docs/formats.md) */
+    float light_bleed_reduction; /* R in [0, 1): the bound rescaled from [R,1] to [0,1]; default 0 */
+    /* EVSM and ESM maps: the exponents the texture was made with (EVSM's c+ and c-,
+     * ESM's c in exponent_positive; as msmcl_filter_options); default 0 = the format's default. */
+    float exponent_positive;
+    float exponent_negative;
 } msmcl_shade_options;
 
 MSMCL_C_API void msmcl_shade_options_init(msmcl_shade_options* options);
