@@ -51,8 +51,13 @@ def main():
     prefix = "%s/%s_" % (quality_dir, scene_name)
     height, width = load_png(prefix + "moments128_shadow.png").shape[:2]
     rows = 2 * len(BUDGETS)
-    figure, axes = plt.subplots(rows, columns, figsize=(columns * width / 100, rows * (height / 100 + 0.55) + 1.4),
-                                dpi=100, squeeze=False)
+    # Text in proportion to the panels; each panel's three title lines, the suptitle and the
+    # colour bar in inches of their own.
+    font = max(8.0, width / 45.0)
+    title_inches, top_inches, bottom_inches = 3.8 * font / 72.0, 0.6 * font / 8.0, 1.0 * font / 8.0
+    panel_inches = height / 100.0
+    figure_height = rows * (panel_inches + title_inches) + top_inches + bottom_inches
+    figure, axes = plt.subplots(rows, columns, figsize=(columns * width / 100, figure_height), dpi=100, squeeze=False)
     for axis in axes.flat:
         axis.axis("off")
     for budget, (bits, names) in enumerate(BUDGETS):
@@ -60,20 +65,22 @@ def main():
             shadow = axes[2 * budget][column]
             shadow.imshow(load_png(prefix + name + "_shadow.png"), cmap="gray", vmin=0, vmax=1,
                           interpolation="nearest")
-            shadow.set_title("%d bits: %s" % (bits, title(methods[name])), fontsize=8)
+            shadow.set_title("%d bits: %s" % (bits, title(methods[name])), fontsize=font)
             difference = axes[2 * budget + 1][column]
             difference.imshow(load_png(prefix + name + "_error.png", legend=True), interpolation="nearest")
-            difference.set_title("PCF truth - %s" % name, fontsize=8)
-    figure.subplots_adjust(left=0.01, right=0.99, top=0.92, bottom=0.09, wspace=0.03, hspace=0.45)
+            difference.set_title("PCF truth - %s" % name, fontsize=font)
+    figure.subplots_adjust(left=0.01, right=0.99, top=1 - (top_inches + title_inches) / figure_height,
+                           bottom=bottom_inches / figure_height, wspace=0.03, hspace=title_inches / panel_inches)
     # The colour bar of every difference panel, along the bottom.
-    bar = figure.add_axes([0.3, 0.05, 0.4, 0.012])
+    bar = figure.add_axes([0.3, 0.55 * bottom_inches / figure_height, 0.4, 0.12 * bottom_inches / figure_height])
     colormap = LinearSegmentedColormap.from_list("signed_difference", ANCHORS)
     figure.colorbar(plt.cm.ScalarMappable(cmap=colormap, norm=plt.Normalize(-ERROR_RANGE, ERROR_RANGE)), cax=bar,
                     orientation="horizontal", ticks=[-ERROR_RANGE, -ERROR_RANGE / 2, 0, ERROR_RANGE / 2, ERROR_RANGE])
     bar.set_xlabel("PCF truth - method (shadow intensity): red = lighter than the truth (leaks), blue = darker",
-                   fontsize=8)
-    bar.tick_params(labelsize=8)
-    figure.suptitle("%s: every representation by bits per texel, against the PCF truth" % scene_name, fontsize=10, y=0.995)
+                   fontsize=font)
+    bar.tick_params(labelsize=font)
+    figure.suptitle("%s: every representation by bits per texel, against the PCF truth" % scene_name, fontsize=1.2 * font,
+                    y=1 - 0.2 * top_inches / figure_height)
     figure.savefig(output, dpi=100)
 
 

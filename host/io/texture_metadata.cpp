@@ -16,22 +16,12 @@ namespace {
     throw input_error(path + ": " + problem);
 }
 
-// A float as short as reads back exactly.
-std::string shortest_text(float value) {
-    char text[32];
-    for (int digits = 1; digits <= 9; ++digits) {
-        std::snprintf(text, sizeof text, "%.*g", digits, double(value));
-        if (std::strtof(text, nullptr) == value) break;
-    }
-    return text;
-}
-
 } // namespace
 
 std::optional<std::string> exponents_record(const Texture& texture) {
     if (max_exponents(texture.format) == WarpExponents{}) return std::nullopt;
     const WarpExponents used = effective_exponents(texture.format, texture.exponents, "texture");
-    return shortest_text(used.positive) + "," + shortest_text(used.negative);
+    return detail::shortest_text(used.positive) + "," + detail::shortest_text(used.negative);
 }
 
 WarpExponents exponents_of_record(const std::optional<std::string>& record, Format format, const std::string& path) {

@@ -43,10 +43,7 @@ WarpExponents max_exponents(Format format) noexcept {
     return detail::is_known(format) ? detail::texture_kind(format).warp.largest : WarpExponents{};
 }
 
-namespace {
-
-// "5.54" for a float, as short as prints it back exactly.
-std::string exponent_text(float value) {
+std::string detail::shortest_text(float value) {
     char text[32];
     for (int digits = 1; digits <= 9; ++digits) {
         std::snprintf(text, sizeof text, "%.*g", digits, double(value));
@@ -55,19 +52,23 @@ std::string exponent_text(float value) {
     return text;
 }
 
+namespace {
+
+using detail::shortest_text;
+
 // One exponent of `requested`: 0 -> the default; else within (0, largest].
 float effective_exponent(Format format, float requested, float fallback, float largest, const char* lane,
                          const char* what) {
-    const std::string prefix = std::string(what) + ": exponent " + lane + " " + exponent_text(requested) + " of " +
+    const std::string prefix = std::string(what) + ": exponent " + lane + " " + shortest_text(requested) + " of " +
                                format_name(format);
     if (largest == 0.0f) {
         if (requested != 0.0f) throw input_error(prefix + ": the format has no such warp");
         return 0.0f;
     }
     if (!std::isfinite(requested) || requested < 0.0f)
-        throw input_error(prefix + ": exponents are finite and > 0 (0 = the default " + exponent_text(fallback) + ")");
+        throw input_error(prefix + ": exponents are finite and > 0 (0 = the default " + shortest_text(fallback) + ")");
     if (requested > largest)
-        throw input_error(prefix + " is beyond its safe limit " + exponent_text(largest) +
+        throw input_error(prefix + " is beyond its safe limit " + shortest_text(largest) +
                           " (the stored warp would overflow; docs/formats.md)");
     return requested == 0.0f ? fallback : requested;
 }

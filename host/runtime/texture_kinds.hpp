@@ -288,6 +288,8 @@ inline bool float_texels(const TextureKind& kind) noexcept {
 /// exponents MSM_WARP_POSITIVE, MSM_WARP_NEGATIVE (effective_exponents of `exponents`, as
 /// float literals; 0 without a warp).
 std::vector<std::string> texture_kind_defines(Format format, WarpExponents exponents = {});
+/// A float as short as reads back exactly ("5.54"): the exponents in messages and records.
+std::string shortest_text(float value);
 /// Whether the texels of `kind` are half floats (evsm2_32, evsm4_64).
 inline bool half_texels(const TextureKind& kind) noexcept {
     return gpu_format_info(kind).kind == ChannelKind::sfloat && gpu_format_info(kind).channel_bits[0] == 16;
