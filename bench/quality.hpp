@@ -23,7 +23,10 @@ inline constexpr double blur_sigma = 2.4;          // the library's default blur
 inline constexpr double depth_bias = 1e-3;         // internal depth, shade's default
 inline constexpr double error_threshold = 0.03;    // "off by more than 3%"
 inline constexpr double large_error_threshold = 0.10;
-inline constexpr double vsm_min_variance = 1e-5;   // in [0,1] depth units
+// Filament's default light-bleed reduction, shaded beside EVSM as published.
+inline constexpr float filament_light_bleed_reduction = 0.15f;
+// Timed runs of the filter per format (after one untimed): the median kernel stage.
+inline constexpr int timed_filter_runs = 5;
 inline constexpr double alpha_128 = 3e-7;          // moments128 bias and Algorithm 2's input bias (docs/math.md)
 inline constexpr double bstar_128 = 0.375;
 // Light leak on the banner: receivers there that the railing shadows (truth >= 0.5); a
@@ -71,7 +74,10 @@ struct LeakStats {
 };
 
 struct MethodResult {
-    std::string name;
+    std::string name;             ///< the format, "_lbr0.15" where shaded with light-bleed reduction 0.15
+    msmcl::Format format = msmcl::Format::moments128;
+    float light_bleed_reduction = 0; ///< VSM and EVSM: R of the shading (0: as published)
+    double kernel_ms = 0;         ///< the filter's kernel stage, median of the timed runs (ms)
     std::vector<double> shadow;
     ErrorStats vs_moments128;
     ErrorStats vs_truth;
@@ -101,7 +107,7 @@ struct SceneResult {
     bool has_materials = false;
     std::size_t leak_set_size = 0;                    ///< banner receivers in the railing's shadow
     std::vector<double> truth, truth_constant_bias;   ///< PCF ground truth per receiver
-    std::vector<MethodResult> methods;                ///< moments128, msm64, nlq64, nlq32, vsm32, vsm64
+    std::vector<MethodResult> methods;                ///< every filter format in Format order, then EVSM with R = 0.15
     std::vector<Step> steps;                          ///< the nlq64 - moments128 decomposition
     std::array<std::size_t, 4> codes_off{};           ///< nlq64 codes > 1 step from the double encoding
     std::size_t texels_off = 0, texels_off_one_depth = 0;
@@ -122,8 +128,9 @@ SceneInputs load_scene(const Scene& scene);
 
 // ---- Run (quality_run.cpp)
 
-/// Filters and shades the scene with every format (kernel: the filter kernel) and VSM,
-/// computes the PCF truth, the errors, the decomposition and the classes.
+/// Filters and shades the scene with every format (kernel: the filter kernel; the library's
+/// textures and shading), times the filter's kernel per format, computes the PCF truth, the
+/// errors, the decomposition and the classes.
 SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const SceneInputs& inputs,
                           msmcl::FilterKernel kernel);
 
@@ -137,6 +144,7 @@ void print_scene(const SceneResult& result);
 void write_scene_images(const SceneResult& result, const std::string& out_dir);
 /// One scene's entry of the JSON.
 nlohmann::json scene_json(const SceneResult& result);
+
 /// The whole JSON: the settings and every scene.
 nlohmann::json results_json(const std::string& device_name, const std::string& kernel_name, nlohmann::json scenes);
 

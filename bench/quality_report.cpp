@@ -88,8 +88,13 @@ void print_preamble(const std::string& device_name, const std::string& kernel_na
     std::cout << "# msmcl quality table\n\n"
               << "device: " << device_name << "; filter kernel " << kernel_name << "; blur sigma "
               << blur_sigma << " (9x9), depth bias "
-              << depth_bias << " (internal depth), bilinear lookup unless said; VSM minimum variance "
-              << vsm_min_variance << " ([0,1] depth).\n\n"
+              << depth_bias << " (internal depth), bilinear lookup unless said. Every method is the library's "
+                 "texture shaded by the library (msmcl::filter, msmcl::shade) with the format's defaults (VSM and "
+                 "EVSM minimum variance and exponents: docs/formats.md); *_lbr0.15: EVSM with light-bleed "
+                 "reduction "
+              << filament_light_bleed_reduction
+              << " (Filament's default). Kernel: the filter's kernel stage, median of " << timed_filter_runs
+              << " runs, and its ratio to msm64's in the same run.\n\n"
               << "Errors are |shadow - reference| over all receivers of the view (sky pixels included, lit). "
                  "PCF truth: percentage-closer filtering of the map's samples with the same 9x9 Gaussian and "
                  "bilinear weights, in double, each sample compared with the receiver's plane (depth gradient "
@@ -108,11 +113,16 @@ void print_scene(const SceneResult& result) {
               << "x MSAA; " << result.view_width << "x" << result.view_height << " = " << result.count << " receivers";
     if (result.has_materials) std::cout << "; " << result.leak_set_size << " banner receivers in the railing's shadow";
     std::cout << ")\n\n"
-              << "| method | vs 128-bit: >3% | >10% | max | mean | vs PCF truth: >3% | >10% | max | mean | "
-                 "banner leak: mean | leaking > 0.1 |\n"
-              << "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+              << "| method | bits | kernel ms (x msm64) | vs 128-bit: >3% | >10% | max | mean | vs PCF truth: >3% | "
+                 ">10% | max | mean | banner leak: mean | leaking > 0.1 |\n"
+              << "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+    double msm64_ms = 0;
+    for (const MethodResult& m : methods)
+        if (m.name == "msm64") msm64_ms = m.kernel_ms;
     for (const MethodResult& m : methods) {
-        std::cout << "| " << m.name << " | " << error_cells(m.vs_moments128) << " | " << error_cells(m.vs_truth)
+        std::cout << "| " << m.name << " | " << 8 * msmcl::texel_bytes(m.format) << " | " << fixed(m.kernel_ms, 3)
+                  << " (" << fixed(msm64_ms > 0 ? m.kernel_ms / msm64_ms : 0.0, 2) << ") | "
+                  << error_cells(m.vs_moments128) << " | " << error_cells(m.vs_truth)
                   << " | " << (m.leak.available ? fixed(m.leak.mean_leak) : "-") << " | "
                   << (m.leak.available ? percent(m.leak.share_leaking) : "-") << " |\n";
     }
@@ -189,6 +199,10 @@ nlohmann::json scene_json(const SceneResult& result) {
     nlohmann::json json_methods = nlohmann::json::array();
     for (const MethodResult& m : methods) {
         nlohmann::json entry{{"method", m.name},
+                             {"format", msmcl::format_name(m.format)},
+                             {"bits", 8 * msmcl::texel_bytes(m.format)},
+                             {"light_bleed_reduction", m.light_bleed_reduction},
+                             {"filter_kernel_ms", m.kernel_ms},
                              {"vs_moments128", stats_json(m.vs_moments128)},
                              {"vs_pcf_truth", stats_json(m.vs_truth)},
                              {"vs_pcf_constant_bias", stats_json(m.vs_truth_constant_bias)}};
@@ -240,7 +254,8 @@ nlohmann::json results_json(const std::string& device_name, const std::string& k
                           {"kernel", kernel_name},
                           {"sigma", blur_sigma},
                           {"depth_bias", depth_bias},
-                          {"vsm_min_variance", vsm_min_variance},
+                          {"filter_kernel_ms", "median kernel stage of " + std::to_string(timed_filter_runs) +
+                                                   " filter runs per format"},
                           {"truth", "PCF with per-sample receiver planes, same 9x9 Gaussian, bilinear"},
                           {"leak_definition",
                            "banner receivers with PCF truth >= 0.5; mean of max(0, truth - method); share with "

@@ -1,8 +1,10 @@
-// msmcl-quality, run: the device's shadows of every format, VSM, the PCF ground truth and
+// msmcl-quality, run: the device's shadows of every format, the PCF ground truth and
 // the double-precision decomposition of nlq64 - moments128 (bench/quality.hpp).
 #include "quality.hpp"
 
 #include <msmcl/shade.hpp>
+
+#include "runtime/texture_kinds.hpp"
 
 #include "reference/filter_reference.hpp"
 #include "reference/moment_math.hpp"
@@ -180,54 +182,6 @@ std::array<double, 2> receiver_plane_gradient(const msmcl::io::ReceiverGrid& gri
     return {std::clamp(gx, -max_gradient, max_gradient), std::clamp(gy, -max_gradient, max_gradient)};
 }
 
-/// A variance shadow map: per texel (mu, E[d^2]) of d in [0,1], as stored.
-struct VarianceMap {
-    int width = 0, height = 0;
-    std::vector<float> mean, mean_square;
-};
-
-/// VSM from the double reference moments: b1, b2 of internal z -> d = (z + 1) / 2.
-/// 32 bit: two unorm16 codes (round to nearest); 64 bit: two float32.
-VarianceMap variance_map(const std::vector<ref::Moments>& moments, int width, int height, bool unorm16) {
-    VarianceMap map;
-    map.width = width;
-    map.height = height;
-    map.mean.resize(moments.size());
-    map.mean_square.resize(moments.size());
-    auto store = [unorm16](double value) {
-        if (!unorm16) return static_cast<float>(value);
-        const double code = std::round(std::clamp(value, 0.0, 1.0) * 65535.0);
-        return static_cast<float>(code / 65535.0);
-    };
-    for (std::size_t i = 0; i < moments.size(); ++i) {
-        const auto& m = moments[i];
-        map.mean[i] = store((m.b1 + 1.0) / 2.0);
-        map.mean_square[i] = store((m.b2 + 2.0 * m.b1 + 1.0) / 4.0);
-    }
-    return map;
-}
-
-/// VSM lookup as a shader does it, in float32: bilinear filtering of the stored moments,
-/// then Chebyshev's one-sided inequality: shadow >= 1 - var / (var + (zf - mu)^2), zf > mu.
-float shade_variance(const VarianceMap& map, float u, float v, float receiver_d) {
-    const BilinearTaps taps = bilinear_taps(u, v, map.width, map.height);
-    const float fx = static_cast<float>(taps.fx), fy = static_cast<float>(taps.fy);
-    auto fetch = [&](const std::vector<float>& channel) {
-        auto at = [&](int x, int y) { return channel[static_cast<std::size_t>(y) * map.width + x]; };
-        const float top = at(taps.x0, taps.y0) * (1 - fx) + at(taps.x1, taps.y0) * fx;
-        const float bottom = at(taps.x0, taps.y1) * (1 - fx) + at(taps.x1, taps.y1) * fx;
-        return top * (1 - fy) + bottom * fy;
-    };
-    const float mu = fetch(map.mean);
-    const float mean_square = fetch(map.mean_square);
-    // The bias of 1e-3 in internal depth is 5e-4 in [0,1] depth.
-    const float zf = receiver_d - static_cast<float>(depth_bias / 2.0);
-    if (zf <= mu) return 0.0f;
-    const float variance = std::max(mean_square - mu * mu, static_cast<float>(vsm_min_variance));
-    const float distance = zf - mu;
-    return 1.0f - variance / (variance + distance * distance);
-}
-
 /// Double-precision shading of the filtered moments (reference/filter_reference.hpp), for
 /// taking the nlq64 - moments128 difference apart: 128-bit moments blended then shaded,
 /// and per-texel non-linear representations (exact, 16-bit, or the device's codes) shaded
@@ -341,10 +295,11 @@ LeakStats banner_leak(const std::vector<double>& shadow, const std::vector<doubl
 
 /// Device shadow for every receiver, as double.
 std::vector<double> device_shadow(msmcl::Context& context, const msmcl::Texture& map, const msmcl::Receivers& receivers,
-                                  msmcl::Lookup lookup) {
+                                  msmcl::Lookup lookup, float light_bleed_reduction = 0.0f) {
     msmcl::ShadeOptions options;
     options.lookup = lookup;
     options.depth_bias = static_cast<float>(depth_bias);
+    if (light_bleed_reduction > 0.0f) options.light_bleed_reduction = light_bleed_reduction;
     const std::vector<float> shadow = msmcl::shade(context, map, receivers, options);
     return {shadow.begin(), shadow.end()};
 }
@@ -425,26 +380,55 @@ std::vector<std::size_t> banner_leak_set(const std::vector<float>& materials, co
     return leak_set;
 }
 
-/// The device's moment shadow maps: one method per format (bilinear lookups), and the
+/// The device's shadow maps: one method per filter format (the library's texture and
+/// shading, bilinear lookups) and EVSM again with light-bleed reduction 0.15; the
 /// moments128 and nlq64 textures with their nearest-texel shadows (the paper's setting).
 struct DeviceMaps {
-    std::vector<MethodResult> methods; ///< moments128, msm64, nlq64, nlq32 (the VSMs join later)
+    std::vector<MethodResult> methods; ///< every filter format in Format order, then EVSM with R = 0.15
     msmcl::Texture moments128, nlq64;
     std::vector<double> nearest_moments128, nearest_nlq64;
 };
 
+/// The filter of `format`, and the median of its kernel stage over timed_filter_runs more runs.
+msmcl::Texture timed_filter(msmcl::Context& context, const msmcl::DepthImage& depth, msmcl::Format format,
+                            msmcl::FilterKernel kernel, double& kernel_ms) {
+    msmcl::FilterOptions options;
+    options.format = format;
+    options.sigma = static_cast<float>(blur_sigma);
+    options.kernel = kernel;
+    msmcl::Texture map = msmcl::filter(context, depth, options);
+    std::vector<double> times;
+    options.on_stage = [&](const msmcl::StageTime& stage) {
+        if (std::string(stage.stage) == "kernel") times.push_back(stage.milliseconds);
+    };
+    for (int run = 0; run < timed_filter_runs; ++run) msmcl::filter(context, depth, options);
+    std::sort(times.begin(), times.end());
+    kernel_ms = times.empty() ? 0.0 : times[times.size() / 2];
+    return map;
+}
+
 DeviceMaps filter_and_shade(msmcl::Context& context, const msmcl::DepthImage& depth,
                             const msmcl::Receivers& receivers, msmcl::FilterKernel kernel) {
     DeviceMaps device;
-    for (msmcl::Format format : {msmcl::Format::moments128, msmcl::Format::msm64, msmcl::Format::nlq64,
-                                 msmcl::Format::nlq32}) {
-        msmcl::FilterOptions filter_options;
-        filter_options.format = format;
-        filter_options.sigma = static_cast<float>(blur_sigma);
-        filter_options.kernel = kernel;
-        msmcl::Texture map = msmcl::filter(context, depth, filter_options);
-        device.methods.push_back({msmcl::format_name(format),
-                                  device_shadow(context, map, receivers, msmcl::Lookup::bilinear), {}, {}, {}, {}});
+    std::vector<MethodResult> reduced;
+    for (msmcl::Format format : msmcl::detail::filter_formats()) {
+        MethodResult method;
+        method.name = msmcl::format_name(format);
+        method.format = format;
+        msmcl::Texture map = timed_filter(context, depth, format, kernel, method.kernel_ms);
+        method.shadow = device_shadow(context, map, receivers, msmcl::Lookup::bilinear);
+        // EVSM as Filament shades it: the bound rescaled from [0.15, 1].
+        const msmcl::detail::Representation representation = msmcl::detail::representation_of(format);
+        if (representation == msmcl::detail::Representation::evsm2 ||
+            representation == msmcl::detail::Representation::evsm4) {
+            MethodResult lbr = method;
+            lbr.name += "_lbr0.15";
+            lbr.light_bleed_reduction = filament_light_bleed_reduction;
+            lbr.shadow =
+                device_shadow(context, map, receivers, msmcl::Lookup::bilinear, filament_light_bleed_reduction);
+            reduced.push_back(std::move(lbr));
+        }
+        device.methods.push_back(std::move(method));
         if (format == msmcl::Format::moments128) {
             device.nearest_moments128 = device_shadow(context, map, receivers, msmcl::Lookup::nearest);
             device.moments128 = map;
@@ -454,6 +438,7 @@ DeviceMaps filter_and_shade(msmcl::Context& context, const msmcl::DepthImage& de
             device.nlq64 = std::move(map);
         }
     }
+    for (MethodResult& method : reduced) device.methods.push_back(std::move(method));
     return device;
 }
 
@@ -466,19 +451,6 @@ std::vector<ref::Moments> texel_moments(const msmcl::Texture& moments128) {
                       moments128.moment(x, y, 4)};
     }
     return moments;
-}
-
-/// Variance shadow maps of the same resolve and blur (the double reference moments): vsm32
-/// (two unorm16 moments) and vsm64.
-void add_variance_methods(const DoubleShading& reference, int width, int height, const msmcl::Receivers& receivers,
-                          std::vector<MethodResult>& methods) {
-    for (bool unorm16 : {true, false}) {
-        const VarianceMap map = variance_map(reference.moments(), width, height, unorm16);
-        std::vector<double> shadow(receivers.size());
-        for (std::size_t i = 0; i < receivers.size(); ++i)
-            shadow[i] = shade_variance(map, receivers.u[i], receivers.v[i], receivers.z[i]);
-        methods.push_back({unorm16 ? "vsm32" : "vsm64", std::move(shadow), {}, {}, {}, {}});
-    }
 }
 
 /// Each method's errors against 128-bit moments (methods[0]) and the ground truth, and its
@@ -625,8 +597,7 @@ SceneResult measure_scene(msmcl::Context& context, const Scene& scene, const Sce
                                   &device.nlq64);
     const DoubleShading from_float_moments(texel_moments(device.moments128), depth.width, depth.height, nullptr);
 
-    // Every method (the formats, then VSM) against 128-bit moments and the ground truth.
-    add_variance_methods(reference, depth.width, depth.height, receivers, device.methods);
+    // Every method against 128-bit moments and the ground truth.
     score_methods(device.methods, g, leak_set, has_materials);
 
     // Double-precision shading of the same filtered moments: the decomposition, and where

@@ -32,25 +32,13 @@
 // Math functions for the quantizers of msm_formats.clh that vectorize across work-items
 // (in this kernel only). PoCL's floor() and ceil() are library code with branches:
 // clang's builtins become single instructions with the same IEEE results. PoCL's exp() is
-// branchy: this one is inline and branch-free (the algorithm of FreeBSD's e_expf.c),
-// within 0.95 ulp of the exact result for every float in [-20, 20], checked exhaustively;
-// Psi4's inverse passes only arguments in [-1.8, 14.8]. (Psi4's logarithm is msm_logf of
-// msm_moments.clh in every kernel.)
+// branchy: Psi4's inverse takes msm_exp (msm_filterable.clh), inline and branch-free, the
+// algorithm the warps use in every kernel (FreeBSD's e_expf.c). Psi4's logarithm is msm_logf
+// of msm_moments.clh in every kernel.
 #define floor(x) __builtin_floorf(x)
 #define ceil(x) __builtin_ceilf(x)
-
-static inline float cpu_expf(float x) {
-    const float ln2_hi = 6.9314575195e-01f, ln2_lo = 1.4286067653e-06f, inv_ln2 = 1.4426950216e+00f;
-    const float p1 = 1.6666625440e-1f, p2 = -2.7667332906e-3f;
-    // x = k ln2 + r, |r| <= ln2 / 2.
-    const float k = __builtin_floorf(x * inv_ln2 + 0.5f);
-    const float hi = x - k * ln2_hi, lo = k * ln2_lo, r = hi - lo, r2 = r * r;
-    const float c = r - r2 * (p1 + r2 * p2);
-    const float y = 1.0f - ((lo - (r * c) / (2.0f - c)) - hi);
-    return y * as_float((uint)((int)k + 127) << 23); // times 2^k, |k| < 127
-}
-
-#define exp(x) cpu_expf(x)
+// exp: msm_exp (msm_filterable.clh), the same algorithm the warps use in every kernel.
+#define exp(x) msm_exp(x)
 #include "msm_formats.clh"
 #include "msm_translucent.clh"
 #include "msm_array.clh"
@@ -210,14 +198,14 @@ cpu_translucent_sample(__global const float* samples, __global const float* laye
             transmitted *= in_front ? 1.0f - a[j] : 1.0f;
         }
         const float weight = transmitted * a[i];
-        sum = msm_moments_add(sum, msm_moments_scale(msm_moments_of(z[i] - shift), weight));
+        sum = msm_moments_add(sum, msm_moments_scale(msm_filter_lanes(z[i], shift), weight));
         total += weight;
         CPU_END_BLOCK(600 + i, as_uint(sum.b1));
     }
     float transmitted = 1.0f;
 #pragma unroll
     for (int j = 0; j < MSM_LAYERS; ++j) transmitted *= z[j] <= opaque_z ? 1.0f - a[j] : 1.0f;
-    sum = msm_moments_add(sum, msm_moments_scale(msm_moments_of(opaque_z - shift), transmitted));
+    sum = msm_moments_add(sum, msm_moments_scale(msm_filter_lanes(opaque_z, shift), transmitted));
     total += transmitted;
     return msm_moments_scale(sum, 1.0f / total);
 }
@@ -262,11 +250,11 @@ static inline void resolve_row(__global const float* depth, int width, int heigh
                                                           x, zero));
     }
 #else
-    msm_moments sum = msm_moments_of(msm_internal_depth(samples[0], MSM_DEPTH_ZERO_ONE) - shift);
+    msm_moments sum = msm_filter_lanes(msm_internal_depth(samples[0], MSM_DEPTH_ZERO_ONE), shift);
 #pragma unroll
     for (int s = 1; s < MSM_SAMPLES; ++s) {
         CPU_END_BLOCK(s, as_uint(sum.b1));
-        sum = msm_moments_add(sum, msm_moments_of(msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE) - shift));
+        sum = msm_moments_add(sum, msm_filter_lanes(msm_internal_depth(samples[s], MSM_DEPTH_ZERO_ONE), shift));
     }
 #endif
     const msm_moments m = msm_moments_scale(sum, 1.0f / (float)MSM_SAMPLES);
@@ -391,8 +379,15 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 // not worth fusing for the SLP vectorizer, and a contiguous, interleaved store once
 // vectorized across work-items). The nlq representation (y1, y2, v2, xi4) replaces the
 // moments in `filtered`.
-#if MSM_FORMAT == MSM_FORMAT_MOMENTS128
+// Float texels (moments128, vsm64, evsm4_128, esm32) are the filtered lanes' bits: the store
+// phase alone. The 16-bit codes of vsm32 and evsm2_32 (one word) and evsm4_64 (two words):
+// one phase per channel, as msm64.
+#if MSM_FLOAT_TEXELS
 #define CPU_QUANTIZE_PHASES 1
+#elif MSM_FORMAT == MSM_FORMAT_VSM32 || MSM_FORMAT == MSM_FORMAT_EVSM2_32
+#define CPU_QUANTIZE_PHASES 3
+#elif MSM_FORMAT == MSM_FORMAT_EVSM4_64
+#define CPU_QUANTIZE_PHASES 5
 #elif MSM_FORMAT == MSM_FORMAT_MSM64
 #define CPU_QUANTIZE_PHASES 5
 #elif MSM_FORMAT == MSM_FORMAT_NLQ64
@@ -425,7 +420,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
         // Store the texel: inside the tile and the image only.
         if (x < CPU_TILE_W && (!border || x0 + (int)x < width)) {
             __global uint* out = texture + ((size_t)(y0 + r - 2 * CPU_GUARD) * width + x0) * CPU_WORDS;
-#if MSM_TEXEL_WORDS == 2
+#if MSM_TEXEL_WORDS == 2 && !MSM_FLOAT_TEXELS
             // Both words as one 64-bit store (a contiguous masked store once vectorized,
             // where two 32-bit stores became a scatter).
             const uint low = word0[x] | (words + 2 * CPU_IN_W)[x];
@@ -454,7 +449,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
     --phase;
     msm_nlq n;
     MSM_LOAD4(n.y1, n.y2, n.v2, n.xi4, filtered, CPU_IN_W, x);
-#elif MSM_FORMAT == MSM_FORMAT_MSM64
+#elif MSM_FORMAT == MSM_FORMAT_MSM64 || !MSM_FLOAT_TEXELS
     msm_moments m;
     MSM_LOAD4(m.b1, m.b2, m.b3, m.b4, filtered, CPU_IN_W, x);
 #endif
@@ -473,6 +468,16 @@ static inline __attribute__((always_inline, flatten)) void quantize_phase(int ph
 #elif MSM_FORMAT == MSM_FORMAT_NLQ32
     if (phase == 0) word0[x] = msm_encode_nlq32(n) & 0x1fc0u;              // sqrt(v2)
     if (phase == 1) word0[x] |= msm_encode_nlq32(n) & 0xffffe03fu;         // folded depths, Psi4
+#elif MSM_FORMAT == MSM_FORMAT_VSM32 || MSM_FORMAT == MSM_FORMAT_EVSM2_32
+    // Two 16-bit codes in one word (msm_store_texel's layout).
+    if (phase == 0) word0[x] = msm_lane_code16(m.b1);
+    if (phase == 1) word0[x] |= msm_lane_code16(m.b2) << 16;
+#elif MSM_FORMAT == MSM_FORMAT_EVSM4_64
+    // Four half codes in the planes of the 64-bit formats (stored as one 64-bit word).
+    if (phase == 0) word0[x] = msm_lane_code16(m.b1);
+    if (phase == 1) (words + 2 * CPU_IN_W)[x] = msm_lane_code16(m.b2) << 16;
+    if (phase == 2) word1[x] = msm_lane_code16(m.b3);
+    if (phase == 3) (words + 3 * CPU_IN_W)[x] = msm_lane_code16(m.b4) << 16;
 #endif
 }
 

@@ -285,22 +285,17 @@ py::array texture_words(py::object self) {
     return words_view(self, py::dtype::of<std::uint32_t>(), shape, t.words.data());
 }
 
-/// Per texel b1..b4 (moments128, msm64) or y1, y2, v2, xi4 (nlq64, nlq32), as msmcl info decodes them.
+/// Per texel its decoded quantities as msmcl info decodes them (b1..b4 for moments128 and msm64,
+/// y1, y2, v2, xi4 for nlq64 and nlq32, ...; decoded_quantities), 0 beyond a format's count.
 py::array_t<double> texture_decode(const TextureObject& object) {
     const Texture& t = object.texture;
     const std::size_t texels = static_cast<std::size_t>(t.width) * t.height * t.layers;
     std::vector<double> values(4 * texels);
-    const std::size_t words = texel_words(t.format);
+    float texel[4];
     for (std::size_t i = 0; i < texels; ++i) {
-        const std::uint32_t* w = t.words.data() + i * words;
-        double* out = values.data() + 4 * i;
-        if (t.format == Format::moments128 || t.format == Format::msm64) {
-            const Moments4 b = t.format == Format::moments128 ? decode_moments128(w) : decode_msm64(w);
-            out[0] = b.b1, out[1] = b.b2, out[2] = b.b3, out[3] = b.b4;
-        } else {
-            const NlqTexel n = t.format == Format::nlq64 ? decode_nlq64(w) : decode_nlq32(*w);
-            out[0] = n.y1, out[1] = n.y2, out[2] = n.v2, out[3] = n.xi4;
-        }
+        texel[0] = texel[1] = texel[2] = texel[3] = 0.0f;
+        decode_texel(t, i, texel);
+        for (int c = 0; c < 4; ++c) values[4 * i + c] = texel[c];
     }
     std::vector<py::ssize_t> shape = image_axes(t.layers, t.height, t.width, is_array(t));
     shape.push_back(4);

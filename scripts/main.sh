@@ -153,9 +153,16 @@ for entry in hall:0.3 pergola:1.5; do
   "$python" scripts/scatter_figure.py "$out" "$name" "$out/${name}_scatter_vs_marched.png"
 done
 
-# The quality table on the 1024^2 scenes: every format and VSM against 128-bit moments and
+# The quality table on the 1024^2 scenes: every filter format (moments, VSM, EVSM, ESM; EVSM
+# also with light-bleed reduction 0.15) against 128-bit moments and
 # the PCF ground truth, with shadow and error images (out/quality/).
 "$build/bench/msmcl-quality" --large --out "$out/quality" --json "$out/quality/quality.json" > "$out/quality.md"
+# One figure per view: every representation by bits per texel, its signed difference from
+# the PCF truth below, the banner leak in the titles (docs/representations.md).
+for name in railing wuson; do
+  "$python" scripts/quality_figure.py "$out/quality" "$out/quality/quality.json" "$name" \
+    "$out/${name}_1024_representations.png"
+done
 
 # The Python module (docs/python.md): the railing map in every format against 128-bit
 # moments, from a few lines of Python; built where CMake found Python 3, numpy and pybind11.

@@ -20,7 +20,9 @@ import re
 import sys
 
 # Bits per texel of each method of the quality table (docs/formats.md; VSM: two moments).
-BITS = {"moments128": 128, "msm64": 64, "nlq64": 64, "nlq32": 32, "vsm64": 64, "vsm32": 32}
+BITS = {"moments128": 128, "msm64": 64, "nlq64": 64, "nlq32": 32, "vsm64": 64, "vsm32": 32, "evsm2_32": 32,
+        "evsm2_32_lbr0.15": 32, "evsm4_64": 64, "evsm4_64_lbr0.15": 64, "evsm4_128": 128, "evsm4_128_lbr0.15": 128,
+        "esm32": 32}
 FORMATS = ("moments128", "msm64", "nlq64", "nlq32")
 MAPS = {"256": "256x256 map (4x MSAA), 160x120 view", "1024": "1024x1024 map, 640x480 view"}
 
@@ -80,6 +82,7 @@ class Catalogue:
             (r"^(\w+_(?:256|1024))_(soft|soft_published)_diff_pm([0-9.]+)$", self.soft_diff),
             (r"^(\w+_(?:256|1024))_(soft|soft_published|soft_pcss)$", self.soft_shadow),
             (r"^(\w+_1024)_soft_vs_pcss$", self.soft_figure),
+            (r"^(\w+)_1024_representations$", self.representations_figure),
             (r"^(\w+)_nlq64_lookups$", self.lookups),
             (r"^smoke_1024_hard$", self.smoke),
             (r"^smoke_1024_(moments128|nlq64|soft)$", self.smoke),
@@ -136,6 +139,14 @@ class Catalogue:
                 "; ".join(f"{m}: {line_for(self.soft, rf'^{scene} {m} vs PCSS: ')}"
                           for m in ("soft", "soft_published") if line_for(self.soft, rf"^{scene} {m} vs PCSS: "))
                 or None)
+
+    def representations_figure(self, scene):
+        leaks = {m: v["banner_leak"]["mean"] for m, v in self.quality.get(scene, {}).items() if "banner_leak" in v}
+        return (f"{scene}: every representation by bits per texel",
+                "The shadow of each representation at 32, 64 and 128 bits per texel (columns) and its signed "
+                "difference from the PCF truth below; the titles give the share off by > 3% and the banner leak.",
+                "grey shadows; differences in the colour map of the bar drawn in the figure (+-0.1)",
+                ("banner leak (mean): " + ", ".join(f"{m} {v:.4f}" for m, v in leaks.items())) if leaks else None)
 
     def lookups(self, scene):
         return (f"{scene}: the lookups of nlq64, magnified",

@@ -19,7 +19,7 @@ import re
 import subprocess
 import sys
 
-HEADERS = ["msm_sat.clh", "msm_scatter.clh"]
+HEADERS = ["msm_sat.clh", "msm_scatter.clh", "msm_filterable_shading.clh"]
 IDENTIFIER = re.compile(r"[A-Za-z_]\w*")
 CAST = re.compile(r"\((float|int|uint)\)\s*")
 MARKER = "// @kernel-functions"

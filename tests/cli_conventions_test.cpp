@@ -101,7 +101,8 @@ TEST_F(CliConventions, MistypedValuesAreNamedWithTheNearestValue) {
     expect_usage("shade m.exr r.exr y.exr --lookup bilnear",
                  "unknown --lookup 'bilnear' (did you mean 'bilinear'? expected nearest, bilinear or dither)");
     expect_usage("filter a.exr b.exr --format nlq46",
-                 "unknown --format 'nlq46' (did you mean 'nlq64'? expected moments128, msm64, nlq64 or nlq32)");
+                 "unknown --format 'nlq46' (did you mean 'nlq64'? expected moments128, msm64, nlq64, nlq32, vsm32, "
+                 "vsm64, evsm2_32, evsm4_64, evsm4_128 or esm32)");
     expect_usage("filter a.exr b.exr --format msm64 --kernel fused_gpu",
                  "unknown --kernel 'fused_gpu' (did you mean 'fused_cpu'? expected automatic, fused_paper, fused_cpu "
                  "or three_pass)");

@@ -19,6 +19,7 @@
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
+#include <msmcl/formats.hpp>
 #include <msmcl/sat.hpp>
 #include <msmcl/version.hpp>
 
@@ -446,6 +447,50 @@ TEST_F(CliContainers, ShadeReadsMapsFromEveryContainer) {
 }
 
 // sat writes every container; soft reads each of them and gives the same bytes.
+// The VSM, EVSM and ESM formats: the same texels in EXR, KTX2 and DDS, each container's pixel
+// format the table's (docs/formats.md), and the exponents recorded in EXR and KTX2.
+TEST_F(CliContainers, FilterableFormatsInEveryContainer) {
+    const struct {
+        const char* format;
+        std::uint32_t vk_format, dxgi_format;
+        msmcl::WarpExponents exponents;
+    } cases[] = {{"vsm32", 77, 35, {}},           {"vsm64", 103, 16, {}},
+                 {"evsm2_32", 83, 34, {5.54f, 0}}, {"evsm4_64", 97, 10, {5.54f, 5.54f}},
+                 {"evsm4_128", 109, 2, {40, 5}},   {"esm32", 100, 41, {80, 0}}};
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.format);
+        const msmcl::Format format = *msmcl::parse_format(c.format);
+        for (const char* extension : {"exr", "ktx2", "dds"})
+            ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q(std::string("map.") + extension) + " --format " + c.format),
+                      0) << err();
+        const msmcl::io::TextureFile exr = msmcl::io::read_texture_exr(path("map.exr"));
+        const GpuImage ktx2 = msmcl::io::read_ktx2(path("map.ktx2")), dds = msmcl::io::read_dds(path("map.dds"));
+        EXPECT_EQ(msmcl::io::gpu_format_info(ktx2.format).vk_format, c.vk_format);
+        EXPECT_EQ(msmcl::io::gpu_format_info(dds.format).dxgi_format, c.dxgi_format);
+        const msmcl::Texture from_ktx2 = msmcl::io::texture_of(ktx2, format, "map.ktx2");
+        EXPECT_EQ(from_ktx2.words, exr.texture.words);
+        EXPECT_EQ(msmcl::io::texture_of(dds, format, "map.dds").words, exr.texture.words);
+        EXPECT_EQ(exr.texture.exponents, c.exponents);
+        EXPECT_EQ(from_ktx2.exponents, c.exponents);
+    }
+    // Given exponents are recorded and read back; DDS, which keeps no record, refuses them.
+    ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("e.ktx2") + " --format evsm4_64 --exponents 3,2.5"), 0) << err();
+    const GpuImage ktx2 = msmcl::io::read_ktx2(path("e.ktx2"));
+    EXPECT_EQ(ktx2.find_metadata("msmcl:exponents"), std::string("3,2.5"));
+    EXPECT_EQ(msmcl::io::texture_of(ktx2, msmcl::Format::evsm4_64, "e.ktx2").exponents, (msmcl::WarpExponents{3, 2.5f}));
+    expect_refused("filter " + q("depth.exr") + " " + q("e.dds") + " --format evsm4_64 --exponents 3,2.5", "e.dds",
+                   "keeps no record of the exponents", "e.dds");
+    // Options of another representation and exponents beyond the storage's limit: exit 2.
+    expect_refused("filter " + q("depth.exr") + " " + q("m.ktx2") + " --format msm64 --exponents 3,2", "--exponents",
+                   "not msm64", "m.ktx2");
+    expect_refused("filter " + q("depth.exr") + " " + q("m.ktx2") + " --format evsm4_64 --exponent 3", "--exponent",
+                   "not evsm4_64", "m.ktx2");
+    expect_refused("filter " + q("depth.exr") + " " + q("m.ktx2") + " --format esm32 --exponent 89", "esm32",
+                   "safe limit 88", "m.ktx2");
+    expect_refused("filter " + q("depth.exr") + " " + q("m.ktx2") + " --format evsm2_32 --exponents 6", "evsm2_32",
+                   "safe limit 5.54", "m.ktx2");
+}
+
 TEST_F(CliContainers, SoftReadsTablesFromEveryContainer) {
     for (const char* extension : {"exr", "ktx2", "dds"})
         ASSERT_EQ(cli("sat " + q("depth.exr") + " " + q(std::string("sat.") + extension) + " --max-kernel 100"), 0)
@@ -484,8 +529,9 @@ TEST_F(CliContainers, UnknownOutputExtensionsAreRefused) {
                    "not an OpenEXR, KTX2 or DDS file", "y.exr");
 }
 
-// DDS records no format and no N: msm64/nlq64 maps and tables are refused unless the user
-// says, and the error names the option; a --format that contradicts the file is refused.
+// DDS records no format and no N: msm64/nlq64 and moments128/evsm4_128 maps and tables are
+// refused unless the user says, and the error names the option; a --format that contradicts
+// the file is refused.
 TEST_F(CliContainers, AmbiguousDdsNeedsTheUserToSay) {
     ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("msm.dds") + " --format msm64"), 0) << err();
     ASSERT_EQ(cli("filter " + q("depth.exr") + " " + q("m128.dds") + " --format moments128"), 0) << err();
@@ -494,13 +540,17 @@ TEST_F(CliContainers, AmbiguousDdsNeedsTheUserToSay) {
     expect_refused("shade " + q("msm.dds") + " " + q("receivers.exr") + " " + q("y.exr"), "msm.dds", "--format", "y.exr");
     expect_refused("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y.exr") + " --format nlq32",
                    "m128.dds", "--format says nlq32", "y.exr");
+    // R32G32B32A32_FLOAT texels are moments128 or evsm4_128.
+    expect_refused("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y.exr"), "m128.dds",
+                   "--format moments128 or --format evsm4_128", "y.exr");
     expect_refused("shade " + q("nlq.ktx2") + " " + q("receivers.exr") + " " + q("y.exr") + " --format msm64",
                    "nlq.ktx2", "holds a nlq64 texture", "y.exr");
     expect_refused("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("y.exr") + " --light-size 4", "sat.dds",
                    "--max-kernel", "y.exr");
-    // Said, they are read: moments128 DDS needs nothing.
+    // Said, they are read.
     EXPECT_EQ(cli("shade " + q("msm.dds") + " " + q("receivers.exr") + " " + q("y1.exr") + " --format msm64"), 0) << err();
-    EXPECT_EQ(cli("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y2.exr")), 0) << err();
+    EXPECT_EQ(cli("shade " + q("m128.dds") + " " + q("receivers.exr") + " " + q("y2.exr") + " --format moments128"), 0)
+        << err();
     EXPECT_EQ(cli("soft " + q("sat.dds") + " " + q("receivers.exr") + " " + q("y3.exr") + " --light-size 4 --max-kernel 729"),
               0) << err();
 }

@@ -203,6 +203,9 @@ std::vector<std::uint32_t> bits_of(const std::vector<float>& values) {
 
 class Oclgrind : public msmcl::testing::SeededTest {
 protected:
+    /// Every lookup of `format` on a filtered map, under Oclgrind against PoCL (Shading, below).
+    void shade_lookups(Format format);
+
     void SetUp() override {
         SeededTest::SetUp();
         const OclgrindPlatform& platform = OclgrindPlatform::get();
@@ -503,12 +506,57 @@ TEST_F(Oclgrind, FilterFromLayeredDepthImage) {
     setenv("OCLGRIND_UNINITIALIZED", "1", 1);
 }
 
+// ---- The VSM, EVSM and ESM formats of the filter (docs/formats.md, "Filterable
+// representations"): their warps (msm_exp) and codes (msm_half_bits, unorm16) use only
+// correctly rounded operations, so Oclgrind and PoCL agree bit for bit.
+
+const Format kFilterableFormats[] = {Format::vsm32,    Format::vsm64,     Format::evsm2_32,
+                                     Format::evsm4_64, Format::evsm4_128, Format::esm32};
+
+class OclgrindFilterable : public Oclgrind, public ::testing::WithParamInterface<Format> {};
+
+// The paper's kernel and the CPU distribution (16x8 tiles: interior and border columns),
+// one sample count each; evsm4_64 also with the -1,1 range and translucent layers.
+TEST_P(OclgrindFilterable, FusedPaperAndFusedCpu) {
+    const Format format = GetParam();
+    const DepthImage four = depth(4);
+    expect_texture("fused_paper " + variant(format, 4), format, filtering(four, {}, format, FilterKernel::fused_paper));
+    if (format == Format::evsm4_64) {
+        expect_texture("fused_paper " + variant(format, 4) + ", depth range -1,1", format,
+                       filtering(depth(4, DepthRange::minus_one_one), {}, format, FilterKernel::fused_paper,
+                                 DepthRange::minus_one_one));
+        expect_texture("fused_paper " + variant(format, 4, 2), format,
+                       filtering(four, layers(four, 2), format, FilterKernel::fused_paper));
+    }
+    use_cpu_tile("16x8");
+    expect_texture("fused_cpu 16x8 " + variant(format, 2), format,
+                   filtering(depth(2), {}, format, FilterKernel::fused_cpu));
+}
+
+// The three-pass baseline: a unorm16 and a float32 format.
+TEST_F(Oclgrind, FilterableThreePass) {
+    for (Format format : {Format::vsm32, Format::evsm4_128})
+        expect_texture("three_pass " + variant(format, 4), format,
+                       filtering(depth(4), {}, format, FilterKernel::three_pass));
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, OclgrindFilterable, ::testing::ValuesIn(kFilterableFormats), format_test_name);
+
 // ---- Shading.
+
+// Shading of the formats that are no moment formats (VSM, EVSM, ESM), from textures the
+// filter makes: the same lookups as ShadeLookups below.
+class OclgrindShade : public Oclgrind, public ::testing::WithParamInterface<Format> {};
+const Format kWarpedFormats[] = {Format::vsm32,    Format::vsm64,     Format::evsm2_32,
+                                 Format::evsm4_64, Format::evsm4_128, Format::esm32};
+TEST_P(OclgrindShade, WarpedFormatLookups) { shade_lookups(GetParam()); }
+INSTANTIATE_TEST_SUITE_P(Formats, OclgrindShade, ::testing::ValuesIn(kWarpedFormats), format_test_name);
 
 // Every lookup of every format, at receivers inside and around the map (clamped); the
 // dithered lookup with row-major pixels and with explicit ones.
-TEST_P(OclgrindFormat, ShadeLookups) {
-    const Format format = GetParam();
+TEST_P(OclgrindFormat, ShadeLookups) { shade_lookups(GetParam()); }
+
+void Oclgrind::shade_lookups(Format format) {
     const DepthImage map_depth = depth(4);
     const Texture map = on_pocl<Texture>([&](Context& context) {
         FilterOptions options;

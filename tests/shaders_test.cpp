@@ -10,6 +10,7 @@
 // Not covered: running the SPIR-V on a GPU (no Vulkan or GL device in CI). On a GPU the
 // results differ by the GPU's float rounding (see the GLSL file's header).
 // Seed: MSMCL_TEST_SEED (default 6), printed.
+#include "kernels/msm_filterable_shading.clh"
 #include "kernels/msm_sat.clh"
 #include "kernels/msm_scatter.clh"
 #include "runtime/kernel_sources.hpp"
@@ -55,6 +56,12 @@ inline unsigned floatBitsToUint(float f) {
     std::memcpy(&u, &f, sizeof u);
     return u;
 }
+inline float uintBitsToFloat(unsigned u) {
+    float f;
+    std::memcpy(&f, &u, sizeof f);
+    return f;
+}
+using uint = unsigned;
 struct vec2 {
     float x, y;
     explicit vec2(float s) : x(s), y(s) {}
@@ -135,6 +142,12 @@ inline unsigned asuint(float f) {
     std::memcpy(&u, &f, sizeof u);
     return u;
 }
+inline float asfloat(unsigned u) {
+    float f;
+    std::memcpy(&f, &u, sizeof f);
+    return f;
+}
+using uint = unsigned;
 struct float2 {
     float x, y;
     float2(float a, float b) : x(a), y(b) {}
@@ -297,6 +310,17 @@ bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
         static float lookup_nlq32(const unsigned* texels, int w, int h, float u, float v, float zf, int lookup,     \
                                   float nx, float ny) {                                                              \
             return ns::msm_lookup_nlq32(usampler_make(texels, w, 1), w, h, u, v, zf, lookup, vec2_t(nx, ny));       \
+        }                                                                                                            \
+        static ns::msm_warp_shading warp(const msm_warp_shading& s) {                                               \
+            return ns::msm_warp_shading_make(s.representation, s.positive, s.negative, s.min_variance,             \
+                                             s.light_bleed_reduction);                                               \
+        }                                                                                                            \
+        static float shadow_warped(const msm_moments& b, float zf, const msm_warp_shading& s) {                      \
+            return ns::msm_shadow_warped(moments(b), zf, warp(s));                                                   \
+        }                                                                                                            \
+        static float lookup_warped(const float* texels, int w, int h, float u, float v, float zf, int lookup,       \
+                                   float nx, float ny, const msm_warp_shading& s) {                                  \
+            return ns::msm_lookup_warped(sampler_t{texels, w}, w, h, u, v, zf, lookup, vec2_t(nx, ny), warp(s));    \
         }                                                                                                            \
         static msm_sat_sum sat_rectangle_sum(const unsigned* table, int w, int x0, int y0, int x1, int y1) {         \
             const ns::msm_sat_sum s = ns::msm_sat_rectangle_sum(usampler_make(table, w, 4), x0, y0, x1, y1);        \
@@ -531,6 +555,56 @@ TYPED_TEST(ShaderLanguage, LookupsMatchTheShadeKernelsComposition) {
     ASSERT_EQ(TypeParam::texel_index(NAN, width), msm_texel_index(NAN, width));
 }
 
+// VSM, EVSM and ESM (msm_filterable_shading.clh): the shading of random stored values and the whole
+// lookups on random textures of each representation (channels as a texture unit returns
+// them: floats) against the composition of the device functions that kernels/shade.cl makes.
+TYPED_TEST(ShaderLanguage, FilterableLookupsMatchTheDeviceFunctions) {
+    std::mt19937 random(test_seed() + 7);
+    const msm_warp_shading shadings[] = {msm_warp_shading_vsm(1e-5f, 0.0f), msm_warp_shading_vsm(1e-4f, 0.3f),
+                                         msm_warp_shading_evsm2(5.54f, 1e-5f, 0.15f),
+                                         msm_warp_shading_evsm4(5.54f, 5.54f, 1e-5f, 0.0f),
+                                         msm_warp_shading_evsm4(40.0f, 5.0f, 1e-7f, 0.15f), msm_warp_shading_esm(80.0f)};
+    const int width = 11, height = 7;
+    std::uniform_real_distribution<float> depth(0.0f, 1.0f), coordinate(-2.0f, 14.0f), unit(0.0f, 0.999f);
+    for (const msm_warp_shading& s : shadings) {
+        // Each texel: the mean of the warps of two random depths (a filtered texel).
+        std::vector<float> texels;
+        std::vector<msm_moments> stored;
+        for (int t = 0; t < width * height; ++t) {
+            msm_moments m = {0, 0, 0, 0};
+            for (int k = 0; k < 2; ++k) {
+                const float x = 2.0f * depth(random) - 1.0f;
+                const float p = std::exp(s.positive * x), n = -std::exp(-s.negative * x);
+                const float e = std::exp(s.positive * 0.5f * (x - 1.0f));
+                const msm_moments w = s.representation == MSM_WARP_VSM ? msm_moments{0.5f * x + 0.5f, (0.5f * x + 0.5f) * (0.5f * x + 0.5f), 0, 0}
+                                      : s.representation == MSM_WARP_ESM ? msm_moments{e, 0, 0, 0}
+                                                                         : msm_moments{p, p * p, n, n * n};
+                m.b1 += 0.5f * w.b1, m.b2 += 0.5f * w.b2, m.b3 += 0.5f * w.b3, m.b4 += 0.5f * w.b4;
+            }
+            stored.push_back(m);
+            texels.insert(texels.end(), {m.b1, m.b2, m.b3, m.b4});
+        }
+        const auto at = [&](int x, int y) { return static_cast<std::size_t>(y) * width + x; };
+        for (int i = 0; i < 2000; ++i) {
+            const float u = coordinate(random), v = coordinate(random), zf = 2.0f * depth(random) - 1.0f;
+            const int x = msm_texel_index(u, width), y = msm_texel_index(v, height);
+            ASSERT_TRUE(same_bits(TypeParam::shadow_warped(stored[at(x, y)], zf, s), msm_shadow_warped(stored[at(x, y)], zf, s)));
+            ASSERT_TRUE(same_bits(TypeParam::lookup_warped(texels.data(), width, height, u, v, zf, 0, 0, 0, s),
+                                  msm_shadow_warped(stored[at(x, y)], zf, s)));
+            const msm_bilinear_taps k = msm_bilinear_taps_at(u, v, width, height);
+            const msm_moments blend = msm_moments_bilinear(stored[at(k.x0, k.y0)], stored[at(k.x1, k.y0)],
+                                                           stored[at(k.x0, k.y1)], stored[at(k.x1, k.y1)], k.tx, k.ty);
+            ASSERT_TRUE(same_bits(TypeParam::lookup_warped(texels.data(), width, height, u, v, zf, 1, 0, 0, s),
+                                  msm_shadow_warped(blend, zf, s)))
+                << "representation " << s.representation << " case " << i;
+            const float nx = unit(random), ny = unit(random);
+            const int dx = msm_dither_index(u, nx, width), dy = msm_dither_index(v, ny, height);
+            ASSERT_TRUE(same_bits(TypeParam::lookup_warped(texels.data(), width, height, u, v, zf, 2, nx, ny, s),
+                                  msm_shadow_warped(stored[at(dx, dy)], zf, s)));
+        }
+    }
+}
+
 // The blue noise of the dithered lookup: frames, and the offsets of screen pixels read from
 // msmcl::blue_noise_textures() as the 64 x 4096 two-channel texture the shaders expect.
 TYPED_TEST(ShaderLanguage, BlueNoiseMatchesTheDeviceFunctions) {
@@ -715,30 +789,36 @@ TEST(ShaderFunctions, ArrayLookupsEqualTheLookupsOfTheLayer) {
                 using HWords = h::Texture2DArray<h::uint4>;
                 const g::vec2 gn(nx, ny);
                 const h::float2 hn(nx, ny);
-                const float expected[5] = {
+                const float expected[6] = {
                     g::msm_lookup_moments128(g::sampler2D{moment_layer, width}, width, height, u, v, zf, lookup, gn),
                     g::msm_lookup_msm64(g::sampler2D{channel_layer, width}, width, height, u, v, zf, lookup, gn),
                     g::msm_lookup_nlq64(g::sampler2D{channel_layer, width}, width, height, u, v, zf, lookup, gn),
                     g::msm_lookup_nlq32(g::usampler2D{word_layer, width, 1}, width, height, u, v, zf, lookup, gn),
                     g::msm_lookup_moments128_accurate(g::sampler2D{moment_layer, width}, width, height, u, v, zf, lookup,
-                                                      gn)};
+                                                      gn),
+                    g::msm_lookup_warped(g::sampler2D{moment_layer, width}, width, height, u, v, zf, lookup, gn,
+                                         g::msm_warp_shading_evsm4(5.54f, 5.54f, 1e-5f, 0.15f))};
                 const g::sampler2DArray gm{moments.data(), width, height}, gc{channels.data(), width, height};
                 const g::usampler2DArray gw{words.data(), width, height};
-                const float glsl[5] = {
+                const float glsl[6] = {
                     g::msm_lookup_moments128_array(gm, layer, width, height, u, v, zf, lookup, gn),
                     g::msm_lookup_msm64_array(gc, layer, width, height, u, v, zf, lookup, gn),
                     g::msm_lookup_nlq64_array(gc, layer, width, height, u, v, zf, lookup, gn),
                     g::msm_lookup_nlq32_array(gw, layer, width, height, u, v, zf, lookup, gn),
-                    g::msm_lookup_moments128_accurate_array(gm, layer, width, height, u, v, zf, lookup, gn)};
+                    g::msm_lookup_moments128_accurate_array(gm, layer, width, height, u, v, zf, lookup, gn),
+                    g::msm_lookup_warped_array(gm, layer, width, height, u, v, zf, lookup, gn,
+                                               g::msm_warp_shading_evsm4(5.54f, 5.54f, 1e-5f, 0.15f))};
                 const HFloats hm{moments.data(), width, height}, hc{channels.data(), width, height};
                 const HWords hw{words.data(), width, height};
-                const float hlsl[5] = {
+                const float hlsl[6] = {
                     h::msm_lookup_moments128_array(hm, layer, width, height, u, v, zf, lookup, hn),
                     h::msm_lookup_msm64_array(hc, layer, width, height, u, v, zf, lookup, hn),
                     h::msm_lookup_nlq64_array(hc, layer, width, height, u, v, zf, lookup, hn),
                     h::msm_lookup_nlq32_array(hw, layer, width, height, u, v, zf, lookup, hn),
-                    h::msm_lookup_moments128_accurate_array(hm, layer, width, height, u, v, zf, lookup, hn)};
-                for (int f = 0; f < 5; ++f) {
+                    h::msm_lookup_moments128_accurate_array(hm, layer, width, height, u, v, zf, lookup, hn),
+                    h::msm_lookup_warped_array(hm, layer, width, height, u, v, zf, lookup, hn,
+                                               h::msm_warp_shading_evsm4(5.54f, 5.54f, 1e-5f, 0.15f))};
+                for (int f = 0; f < 6; ++f) {
                     ASSERT_TRUE(same_bits(glsl[f], expected[f])) << "function " << f << ": " << glsl[f] << " vs " << expected[f];
                     ASSERT_TRUE(same_bits(hlsl[f], expected[f])) << "function " << f << ": " << hlsl[f] << " vs " << expected[f];
                     ++compared;
@@ -812,7 +892,13 @@ void main() {
         results[19 + 5 * lookup] = msm_lookup_nlq32_array(uint_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
         results[20 + 5 * lookup] = msm_lookup_moments128_accurate_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup,
                                                                         noise);
+        results[31 + 2 * lookup] = msm_lookup_warped(moments128_map, 16, 16, 3.2f, 4.7f, zf, lookup, noise,
+                                                     msm_warp_shading_evsm4(5.54f, 5.54f, 1e-5f, 0.15f));
+        results[32 + 2 * lookup] = msm_lookup_warped_array(float_array, 1, 16, 16, 3.2f, 4.7f, zf, lookup, noise,
+                                                           msm_warp_shading_esm(80.0f));
     }
+    results[37] = msm_lookup_warped(msm64_map, 16, 16, 3.2f, 4.7f, zf, 1, noise, msm_warp_shading_vsm(1e-5f, 0.0f));
+    results[38] = msm_lookup_warped(msm64_map, 16, 16, 3.2f, 4.7f, zf, 1, noise, msm_warp_shading_evsm2(5.54f, 1e-5f, 0.0f));
 }
 )";
 
@@ -862,7 +948,13 @@ void main(uint3 id : SV_DispatchThreadID) {
         results[19 + 5 * lookup] = msm_lookup_nlq32_array(uint_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup, noise);
         results[20 + 5 * lookup] = msm_lookup_moments128_accurate_array(float_array, 2, 16, 16, 3.2f, 4.7f, zf, lookup,
                                                                         noise);
+        results[31 + 2 * lookup] = msm_lookup_warped(moments128_map, 16, 16, 3.2f, 4.7f, zf, lookup, noise,
+                                                     msm_warp_shading_evsm4(5.54f, 5.54f, 1e-5f, 0.15f));
+        results[32 + 2 * lookup] = msm_lookup_warped_array(float_array, 1, 16, 16, 3.2f, 4.7f, zf, lookup, noise,
+                                                           msm_warp_shading_esm(80.0f));
     }
+    results[37] = msm_lookup_warped(msm64_map, 16, 16, 3.2f, 4.7f, zf, 1, noise, msm_warp_shading_vsm(1e-5f, 0.0f));
+    results[38] = msm_lookup_warped(msm64_map, 16, 16, 3.2f, 4.7f, zf, 1, noise, msm_warp_shading_evsm2(5.54f, 1e-5f, 0.0f));
 }
 )";
 

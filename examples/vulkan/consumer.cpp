@@ -12,6 +12,7 @@
 //   msmcl-vulkan devices
 //   msmcl-vulkan shade MAP.ktx2 RECEIVERS.exr OUT.exr [--lookup nearest|bilinear|dither|hardware] [--frame N]
 //                [--depth-bias B] [--depth-range 0,1|-1,1] [--accurate] [--layer L|all] [--hlsl]
+//                [--min-variance V] [--light-bleed-reduction R]   (VSM, EVSM)
 //     (a texture array: layer L into channel Y, or every layer i into channel layer<i>.Y)
 //   msmcl-vulkan soft SAT.ktx2 RECEIVERS.exr OUT.exr --light-size L [--search-size K] [--min-filter F] [--published]
 //                [--depth-bias B] [--depth-range R] [--hlsl]
@@ -28,6 +29,8 @@
 #include "io/scene_json.hpp"
 #include "io/texture_metadata.hpp"
 #include "ops/scatter_params.hpp"
+#include "runtime/texture_kinds.hpp"
+#include "kernels/msm_filterable_shading.clh"
 #include "tools/signed_difference.hpp"
 
 #include <msmcl/errors.hpp>
@@ -40,6 +43,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -57,18 +61,42 @@
 #include "shade_array_glsl_1.h"
 #include "shade_array_glsl_2.h"
 #include "shade_array_glsl_3.h"
+#include "shade_array_glsl_4.h"
+#include "shade_array_glsl_5.h"
+#include "shade_array_glsl_6.h"
+#include "shade_array_glsl_7.h"
+#include "shade_array_glsl_8.h"
+#include "shade_array_glsl_9.h"
 #include "shade_array_hlsl_0.h"
 #include "shade_array_hlsl_1.h"
 #include "shade_array_hlsl_2.h"
 #include "shade_array_hlsl_3.h"
+#include "shade_array_hlsl_4.h"
+#include "shade_array_hlsl_5.h"
+#include "shade_array_hlsl_6.h"
+#include "shade_array_hlsl_7.h"
+#include "shade_array_hlsl_8.h"
+#include "shade_array_hlsl_9.h"
 #include "shade_glsl_0.h"
 #include "shade_glsl_1.h"
 #include "shade_glsl_2.h"
 #include "shade_glsl_3.h"
+#include "shade_glsl_4.h"
+#include "shade_glsl_5.h"
+#include "shade_glsl_6.h"
+#include "shade_glsl_7.h"
+#include "shade_glsl_8.h"
+#include "shade_glsl_9.h"
 #include "shade_hlsl_0.h"
 #include "shade_hlsl_1.h"
 #include "shade_hlsl_2.h"
 #include "shade_hlsl_3.h"
+#include "shade_hlsl_4.h"
+#include "shade_hlsl_5.h"
+#include "shade_hlsl_6.h"
+#include "shade_hlsl_7.h"
+#include "shade_hlsl_8.h"
+#include "shade_hlsl_9.h"
 #include "soft_glsl.h"
 #include "soft_hlsl.h"
 
@@ -179,10 +207,12 @@ struct ShadeArguments {
     std::string map, receivers, output;
     std::string lookup = "bilinear";
     std::uint32_t frame = 0;
-    std::string depth_bias = "1e-3";
+    std::string depth_bias; ///< empty: the format's (msmcl::shade_defaults)
     std::string depth_range;
     bool accurate = false;
     std::string layer; ///< texture arrays: a layer, or all (also when empty)
+    std::string min_variance;          ///< VSM, EVSM; empty: the format's
+    std::string light_bleed_reduction; ///< VSM, EVSM; empty: 0
 };
 
 struct ShadePush {
@@ -194,7 +224,25 @@ struct ShadePush {
     std::uint32_t noise_texture, noise_offset_x, noise_offset_y;
     std::uint32_t accurate;
     std::int32_t layer; ///< texture arrays: the layer shaded
+    // VSM, EVSM, ESM: msm_warp_shading (msm_filterable_shading.clh) as msmcl shade makes it.
+    std::int32_t representation;
+    float warp_positive, warp_negative, min_variance, light_bleed_reduction;
 };
+
+/// How msmcl shade shades a VSM, EVSM or ESM texture: its representation (the format table),
+/// the exponents it was made with, and the options' minimum variance and light-bleed reduction.
+msm_warp_shading warp_shading_of(const msmcl::Texture& texture, const msmcl::ShadeOptions& options) {
+    const msmcl::WarpExponents c = msmcl::effective_exponents(texture.format, texture.exponents, "shade");
+    const float v = options.min_variance.value_or(0.0f), r = options.light_bleed_reduction;
+    switch (msmcl::detail::texture_kind(texture.format).representation) {
+    case msmcl::detail::Representation::vsm: return msm_warp_shading_vsm(v, r);
+    case msmcl::detail::Representation::evsm2: return msm_warp_shading_evsm2(c.positive, v, r);
+    case msmcl::detail::Representation::evsm4: return msm_warp_shading_evsm4(c.positive, c.negative, v, r);
+    case msmcl::detail::Representation::esm: return msm_warp_shading_esm(c.positive);
+    case msmcl::detail::Representation::moments: break;
+    }
+    return msm_warp_shading_vsm(0.0f, 0.0f); // the moment formats' shaders read none of it
+}
 
 /// The layers --layer picks from a texture array of `layers` layers: one, or all of them.
 std::vector<int> layers_to_shade(const std::string& option, int layers, const std::string& map) {
@@ -221,17 +269,31 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
     const auto lookup = std::find(lookups.begin(), lookups.end(), a.lookup);
     if (lookup == lookups.end())
         throw usage_error("unknown --lookup '" + a.lookup + "' (expected nearest, bilinear, dither or hardware)");
-    const float depth_bias = float_option("--depth-bias", a.depth_bias);
+    if (!a.depth_bias.empty()) float_option("--depth-bias", a.depth_bias);
     const std::optional<msmcl::DepthRange> range_option = depth_range_option(a.depth_range);
 
     const msmcl::io::GpuImage image = msmcl::io::read_ktx2(a.map);
     const std::optional<std::string> format_text = image.find_metadata("msmcl:format");
     const std::optional<msmcl::Format> format = format_text ? msmcl::parse_format(*format_text) : std::nullopt;
-    if (!format)
-        throw msmcl::input_error(a.map + ": no msmcl:format of a shadow map (moments128, msm64, nlq64, nlq32)");
+    if (!format) throw msmcl::input_error(a.map + ": no msmcl:format of a shadow map (msmcl filter ... .ktx2)");
     // Validates the file's vkFormat against the table of docs/shaders.md for this texture, and its
-    // record (sigma, samples, depth range) as msmcl does.
-    (void)msmcl::io::texture_of(image, *format, a.map);
+    // record (sigma, samples, depth range, exponents) as msmcl does.
+    const msmcl::Texture texture = msmcl::io::texture_of(image, *format, a.map);
+    // The shading options as msmcl shade takes them: the format's defaults, the command line's values.
+    msmcl::ShadeOptions options = msmcl::shade_defaults(*format);
+    if (!a.depth_bias.empty()) options.depth_bias = float_option("--depth-bias", a.depth_bias);
+    if (!a.min_variance.empty()) options.min_variance = float_option("--min-variance", a.min_variance);
+    if (!a.light_bleed_reduction.empty())
+        options.light_bleed_reduction = float_option("--light-bleed-reduction", a.light_bleed_reduction);
+    const bool variance_bound = msmcl::shade_defaults(*format).min_variance.has_value();
+    if ((!a.min_variance.empty() || !a.light_bleed_reduction.empty()) && !variance_bound)
+        throw usage_error("--min-variance and --light-bleed-reduction are for VSM and EVSM maps, not " +
+                          std::string(msmcl::format_name(*format)));
+    if (options.min_variance && !(*options.min_variance >= 0.0f && *options.min_variance <= 0.25f))
+        throw usage_error("--min-variance must be in [0, 0.25], got '" + a.min_variance + "'");
+    if (!(options.light_bleed_reduction >= 0.0f && options.light_bleed_reduction < 1.0f))
+        throw usage_error("--light-bleed-reduction must be in [0, 1), got '" + a.light_bleed_reduction + "'");
+    const msm_warp_shading warp = warp_shading_of(texture, options);
     (void)msmcl::io::texture_info_of(image, a.map);
     // A 2D map, or a texture array (a cascade set) shaded layer by layer through sampler2DArray.
     const bool array = image.array || image.layers != 1;
@@ -239,10 +301,12 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
         throw usage_error("--layer picks a layer of a texture array; " + a.map + " is one 2D map");
     const std::vector<int> layers = array ? layers_to_shade(a.layer, image.layers, a.map) : std::vector<int>{0};
     const int lookup_index = static_cast<int>(lookup - lookups.begin());
-    const bool filterable = *format == msmcl::Format::moments128 || *format == msmcl::Format::msm64;
+    // Linear filtering where a bilinear lookup blends the stored values (the format table).
+    const bool filterable = msmcl::detail::texture_kind(*format).blends_moments;
     if (lookup_index == 3 && !filterable)
-        throw usage_error("--lookup hardware filters the texture, which only moments128 and msm64 allow (" +
-                          std::string(msmcl::format_name(*format)) + " is shaded per texel, then blended)");
+        throw usage_error("--lookup hardware filters the texture, which the formats that blend their stored values "
+                          "allow, not " + std::string(msmcl::format_name(*format)) +
+                          " (shaded per texel, then blended)");
     if (a.accurate && (*format != msmcl::Format::moments128 || lookup_index == 3))
         throw usage_error("--accurate is the float-float path of moments128 with the nearest, bilinear or dither lookup");
     const msmcl::io::ReceiverGrid grid = msmcl::io::read_receivers_exr(a.receivers);
@@ -273,21 +337,28 @@ void run_shade(VulkanCompute& vulkan, const Language& language, const ShadeArgum
                    image.height,
                    static_cast<std::uint32_t>(records.size()),
                    lookup_index,
-                   depth_bias,
+                   options.depth_bias,
                    depth_range_of(image, range_option) == msmcl::DepthRange::zero_one ? 1u : 0u,
                    frame.texture,
                    frame.offset_x,
                    frame.offset_y,
                    a.accurate ? 1u : 0u,
-                   0};
-    static const std::vector<std::uint32_t> glsl[4] = {words(shade_glsl_0), words(shade_glsl_1), words(shade_glsl_2),
-                                                       words(shade_glsl_3)};
-    static const std::vector<std::uint32_t> hlsl[4] = {words(shade_hlsl_0), words(shade_hlsl_1), words(shade_hlsl_2),
-                                                       words(shade_hlsl_3)};
-    static const std::vector<std::uint32_t> glsl_array[4] = {words(shade_array_glsl_0), words(shade_array_glsl_1),
-                                                             words(shade_array_glsl_2), words(shade_array_glsl_3)};
-    static const std::vector<std::uint32_t> hlsl_array[4] = {words(shade_array_hlsl_0), words(shade_array_hlsl_1),
-                                                             words(shade_array_hlsl_2), words(shade_array_hlsl_3)};
+                   0,
+                   warp.representation,
+                   warp.positive,
+                   warp.negative,
+                   warp.min_variance,
+                   warp.light_bleed_reduction};
+    // One SPIR-V per format (MSM_FORMAT, examples/vulkan/CMakeLists.txt), in Format order.
+#define MSMCL_SHADE_SPIRV(prefix)                                                                                   \
+    {words(prefix##_0), words(prefix##_1), words(prefix##_2), words(prefix##_3), words(prefix##_4),                  \
+     words(prefix##_5), words(prefix##_6), words(prefix##_7), words(prefix##_8), words(prefix##_9)}
+    static const std::vector<std::uint32_t> glsl[] = MSMCL_SHADE_SPIRV(shade_glsl);
+    static const std::vector<std::uint32_t> hlsl[] = MSMCL_SHADE_SPIRV(shade_hlsl);
+    static const std::vector<std::uint32_t> glsl_array[] = MSMCL_SHADE_SPIRV(shade_array_glsl);
+    static const std::vector<std::uint32_t> hlsl_array[] = MSMCL_SHADE_SPIRV(shade_array_hlsl);
+#undef MSMCL_SHADE_SPIRV
+    static_assert(std::size(glsl) == msmcl::detail::kFilterFormats, "one shader per format");
     const int f = static_cast<int>(*format);
     const std::vector<std::uint32_t>& spirv =
         array ? (language.hlsl ? hlsl_array[f] : glsl_array[f]) : (language.hlsl ? hlsl[f] : glsl[f]);
@@ -534,16 +605,20 @@ int main(int argc, char** argv) {
 
     ShadeArguments shade;
     CLI::App* shade_command = app.add_subcommand("shade", "KTX2 shadow map + receivers EXR -> shadow EXR (Y)");
-    shade_command->add_option("map", shade.map, "moments128, msm64, nlq64 or nlq32 KTX2 (msmcl filter ... .ktx2)")
+    shade_command->add_option("map", shade.map, "a shadow map KTX2 of any format (msmcl filter ... .ktx2)")
         ->required();
     shade_command->add_option("receivers", shade.receivers, "receivers EXR (U, V, Z; optional PX, PY)")->required();
     shade_command->add_option("output", shade.output, "shadow EXR to write")->required();
     shade_command->add_option("--lookup", shade.lookup, "nearest, bilinear, dither, or hardware (linear sampler)")
         ->capture_default_str();
     shade_command->add_option("--frame", shade.frame, "frame number of the dithered lookup")->capture_default_str();
-    shade_command->add_option("--depth-bias", shade.depth_bias, "subtracted from the internal depth")
-        ->capture_default_str();
+    shade_command->add_option("--depth-bias", shade.depth_bias,
+                              "subtracted from the internal depth (default: the format's, as msmcl shade)");
     shade_command->add_option("--depth-range", shade.depth_range, "0,1 or -1,1 (default: the map's)");
+    shade_command->add_option("--min-variance", shade.min_variance,
+                              "VSM, EVSM: least variance of the depth in [0,1] (default: the format's, as msmcl shade)");
+    shade_command->add_option("--light-bleed-reduction", shade.light_bleed_reduction,
+                              "VSM, EVSM: the bound rescaled from [R,1] to [0,1], R in [0,1) (default 0)");
     shade_command->add_option("--layer", shade.layer,
                               "texture arrays: shade layer L (channel Y), or all layers (default; channels layer<i>.Y)")
         ->type_name("L|all");

@@ -15,6 +15,7 @@
 #include <msmcl/version.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -96,13 +97,19 @@ long long enum_value(const Enum& value) {
 static_assert(MSMCL_FORMAT_MOMENTS128 == static_cast<int>(msmcl::Format::moments128) &&
                   MSMCL_FORMAT_MSM64 == static_cast<int>(msmcl::Format::msm64) &&
                   MSMCL_FORMAT_NLQ64 == static_cast<int>(msmcl::Format::nlq64) &&
-                  MSMCL_FORMAT_NLQ32 == static_cast<int>(msmcl::Format::nlq32),
+                  MSMCL_FORMAT_NLQ32 == static_cast<int>(msmcl::Format::nlq32) &&
+                  MSMCL_FORMAT_VSM32 == static_cast<int>(msmcl::Format::vsm32) &&
+                  MSMCL_FORMAT_VSM64 == static_cast<int>(msmcl::Format::vsm64) &&
+                  MSMCL_FORMAT_EVSM2_32 == static_cast<int>(msmcl::Format::evsm2_32) &&
+                  MSMCL_FORMAT_EVSM4_64 == static_cast<int>(msmcl::Format::evsm4_64) &&
+                  MSMCL_FORMAT_EVSM4_128 == static_cast<int>(msmcl::Format::evsm4_128) &&
+                  MSMCL_FORMAT_ESM32 == static_cast<int>(msmcl::Format::esm32),
               "msmcl.h and formats.hpp disagree");
 
 // The format of a C value, if it is one of the format table's.
 std::optional<msmcl::Format> known_format(const msmcl_format& format) {
     const long long value = enum_value(format);
-    if (value < 0 || static_cast<unsigned long long>(value) >= msmcl::detail::kMomentFormats) return std::nullopt;
+    if (value < 0 || static_cast<unsigned long long>(value) >= msmcl::detail::kFilterFormats) return std::nullopt;
     return static_cast<msmcl::Format>(value);
 }
 
@@ -138,6 +145,7 @@ msmcl::FilterOptions to_filter_options(const msmcl_filter_options* options, cons
     result.sigma = c.sigma;
     result.depth_range = to_depth_range(c.depth_range, call);
     result.kernel = to_filter_kernel(c.kernel, call);
+    result.exponents = {c.exponent_positive, c.exponent_negative};
     return result;
 }
 
@@ -156,7 +164,17 @@ msmcl::ShadeOptions to_shade_options(const msmcl_shade_options* options, const c
     result.depth_range = to_depth_range(c.depth_range, call);
     result.frame = c.frame;
     result.screen_width = c.screen_width;
+    if (c.min_variance >= 0.0f || std::isnan(c.min_variance)) result.min_variance = c.min_variance;
+    result.light_bleed_reduction = c.light_bleed_reduction;
     return result;
+}
+
+// The exponents a shaded texture was made with (msmcl_shade_options; 0: the format's default).
+msmcl::WarpExponents to_shade_exponents(const msmcl_shade_options* options) {
+    msmcl_shade_options c;
+    msmcl_shade_options_init(&c);
+    if (options) c = *options;
+    return {c.exponent_positive, c.exponent_negative};
 }
 
 msmcl::SoftShadowOptions to_soft_options(const msmcl_soft_options* options, const char* call) {
@@ -388,6 +406,7 @@ void shade_host(msmcl_context* context, const msmcl_format& format, int width, i
     map.format = to_format(format, call);
     map.width = width;
     map.height = height;
+    map.exponents = to_shade_exponents(options);
     const std::size_t needed = texel_count(width, height, call) * msmcl::texel_bytes(map.format);
     if (texture_bytes < needed)
         throw invalid_argument{std::string(call) + ": texture_bytes is " + std::to_string(texture_bytes) + ", a " +
@@ -671,6 +690,8 @@ void msmcl_filter_options_init(msmcl_filter_options* options) {
     options->sigma = defaults.sigma;
     options->depth_range = static_cast<msmcl_depth_range>(defaults.depth_range);
     options->kernel = MSMCL_FILTER_KERNEL_AUTOMATIC;
+    options->exponent_positive = defaults.exponents.positive;
+    options->exponent_negative = defaults.exponents.negative;
 }
 
 msmcl_status msmcl_filter(msmcl_context* context, const float* depth, int width, int height, int samples,
@@ -710,6 +731,10 @@ void msmcl_shade_options_init(msmcl_shade_options* options) {
     options->depth_range = static_cast<msmcl_depth_range>(defaults.depth_range);
     options->frame = defaults.frame;
     options->screen_width = defaults.screen_width;
+    options->min_variance = -1.0f;
+    options->light_bleed_reduction = defaults.light_bleed_reduction;
+    options->exponent_positive = 0.0f;
+    options->exponent_negative = 0.0f;
 }
 
 msmcl_status msmcl_shade(msmcl_context* context, msmcl_format format, int width, int height, const void* texture,
@@ -738,7 +763,7 @@ msmcl_status msmcl_shade_device(msmcl_context* context, msmcl_format format, int
         const char* call = "msmcl_shade_device";
         require(context, call, "context");
         const msmcl::ShadeOptions shade_options = to_shade_options(options, call);
-        const msmcl::DeviceTexture map{texture, to_format(format, call), width, height};
+        const msmcl::DeviceTexture map{texture, to_format(format, call), width, height, to_shade_exponents(options)};
         msmcl::shade(context->context, map, receivers_uvz, count, intensity, shade_options, to_enqueue(enqueue, call));
     });
 }
@@ -751,7 +776,7 @@ msmcl_status msmcl_shade_with_pixels_device(msmcl_context* context, msmcl_format
         const char* call = "msmcl_shade_with_pixels_device";
         require(context, call, "context");
         const msmcl::ShadeOptions shade_options = to_shade_options(options, call);
-        const msmcl::DeviceTexture map{texture, to_format(format, call), width, height};
+        const msmcl::DeviceTexture map{texture, to_format(format, call), width, height, to_shade_exponents(options)};
         msmcl::shade(context->context, map, receivers_uvz, receiver_pixels, count, intensity, shade_options,
                      to_enqueue(enqueue, call));
     });
@@ -1037,7 +1062,7 @@ msmcl_status msmcl_scatter_prefilter_device(msmcl_context* context, const msmcl_
         if (!scatter_map) throw invalid_argument{std::string(call) + ": scatter_map is NULL"};
         const msmcl::ScatterScene cpp_scene = to_scatter_scene(scene, call);
         const msmcl::Enqueue plumbing = to_enqueue(enqueue, call);
-        const msmcl::DeviceTexture map{moment_map, msmcl::Format::moments128, map_width, map_height};
+        const msmcl::DeviceTexture map{moment_map, msmcl::Format::moments128, map_width, map_height, {}};
         msmcl::scatter_prefilter(context->context, cpp_scene, map, scatter_map, moments, plumbing);
     });
 }

@@ -56,8 +56,9 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     const std::string format_text = entry_option(entry, "format", arguments.format);
     if (format_text.empty()) throw usage_error("--format is required");
     const std::optional<Format> format = parse_format(format_text);
-    if (!format)
-        throw usage_error(unknown_value_message("--format", format_text, {"moments128", "msm64", "nlq64", "nlq32"}));
+    if (!format) throw usage_error(unknown_value_message("--format", format_text, format_names()));
+    const WarpExponents exponents = parse_exponent_options(*format, entry_option(entry, "exponents", arguments.exponents),
+                                                           entry_option(entry, "exponent", arguments.exponent));
     const std::string sigma_text = entry_option(entry, "sigma", arguments.sigma);
     const float sigma = parse_finite_float("--sigma", sigma_text);
     if (sigma < 0.0f) throw usage_error("--sigma must be >= 0, got '" + sigma_text + "'");
@@ -75,6 +76,11 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
     options.sigma = sigma;
     options.depth_range = range;
     options.kernel = *kernel;
+    options.exponents = exponents;
+    // A DDS file keeps no record of the exponents: its readers assume the defaults.
+    if (container == Container::dds && exponents != default_exponents(*format))
+        throw usage_error(entry.output + ": a DDS file keeps no record of the exponents and is read with the " +
+                          "defaults; write .ktx2 or .exr for other exponents");
     // Filter on the device, then publish the texture with what it was made from (DDS has
     // no place for the record).
     return map_job(
@@ -95,27 +101,69 @@ MapJob filter_job(const FilterArguments& arguments, const BatchEntry& entry) {
 int run_filter(const GlobalArguments& global, const FilterArguments& arguments, const BatchArguments& batch) {
     MapCommand command;
     command.name = "filter";
-    command.manifest_keys = {"format", "sigma", "depth-range", "kernel", "out-container"};
+    command.manifest_keys = {"format", "sigma", "depth-range", "kernel", "out-container", "exponents", "exponent"};
     command.out_container = arguments.out_container;
     command.make_job = [&](const BatchEntry& entry) { return filter_job(arguments, entry); };
     return run_map_command(global, batch, command);
 }
 
+namespace {
+
+/// A shading option that is a number in [lowest, highest] (`open_top`: below highest), else
+/// usage_error naming the option.
+float parse_ranged_float(const std::string& option, const std::string& text, float lowest, float highest,
+                         bool open_top) {
+    const float value = parse_finite_float(option, text);
+    if (value < lowest || value > highest || (open_top && value == highest))
+        throw usage_error(option + " must be in [" + float_text(lowest) + ", " + float_text(highest) +
+                          (open_top ? ")" : "]") + ", got '" + text + "'");
+    return value;
+}
+
+/// The shading options of a map of `format`: the format's defaults where the command line
+/// leaves them; an option the format's shading has no use for is refused, naming the map.
+ShadeOptions shade_options_for(Format format, const ShadeArguments& arguments, std::optional<Lookup> lookup,
+                               std::optional<float> min_variance, std::optional<float> light_bleed_reduction) {
+    ShadeOptions options = shade_defaults(format);
+    if (lookup) options.lookup = *lookup;
+    if (!arguments.depth_bias.empty()) options.depth_bias = parse_finite_float("--depth-bias", arguments.depth_bias);
+    const bool variance_bound = options.min_variance.has_value();
+    for (const auto& [option, given] : {std::make_pair("--min-variance", min_variance.has_value()),
+                                        std::make_pair("--light-bleed-reduction", light_bleed_reduction.has_value())})
+        if (given && !variance_bound)
+            throw input_error(arguments.map + ": " + option + " is for VSM and EVSM maps, not " + format_name(format));
+    if (min_variance) options.min_variance = *min_variance;
+    if (light_bleed_reduction) options.light_bleed_reduction = *light_bleed_reduction;
+    return options;
+}
+
+} // namespace
+
 void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     // Check the option values before touching any file.
-    ShadeOptions options;
-    const std::optional<Lookup> lookup = parse_lookup(arguments.lookup);
-    if (!lookup) throw usage_error(unknown_value_message("--lookup", arguments.lookup, {"nearest", "bilinear", "dither"}));
-    options.lookup = *lookup;
-    options.depth_bias = parse_finite_float("--depth-bias", arguments.depth_bias);
-    options.frame = parse_frame(arguments.frame);
+    std::optional<Lookup> lookup;
+    if (!arguments.lookup.empty()) {
+        lookup = parse_lookup(arguments.lookup);
+        if (!lookup)
+            throw usage_error(unknown_value_message("--lookup", arguments.lookup, {"nearest", "bilinear", "dither"}));
+    }
+    if (!arguments.depth_bias.empty()) parse_finite_float("--depth-bias", arguments.depth_bias);
+    std::optional<float> min_variance, light_bleed_reduction;
+    if (!arguments.min_variance.empty())
+        min_variance = parse_ranged_float("--min-variance", arguments.min_variance, 0.0f, 0.25f, false);
+    if (!arguments.light_bleed_reduction.empty())
+        light_bleed_reduction =
+            parse_ranged_float("--light-bleed-reduction", arguments.light_bleed_reduction, 0.0f, 1.0f, true);
+    const std::uint32_t frame = parse_frame(arguments.frame);
     std::optional<DepthRange> range;
     if (!arguments.depth_range.empty()) range = parse_depth_range_option(arguments.depth_range);
     std::optional<Format> format;
     if (!arguments.format.empty()) {
         format = parse_format(arguments.format);
         if (!format)
-            throw usage_error(unknown_value_message("--format", arguments.format, {"moments128", "msm64", "nlq64", "nlq32"}));
+            throw usage_error(unknown_value_message("--format", arguments.format, format_names()));
+        // A shading option the named format has no use for: refused before any file is read.
+        shade_options_for(*format, arguments, lookup, min_variance, light_bleed_reduction);
     }
     require_exr_output(arguments.output);
     // The output is no spelling of an input, and can be written, before any work.
@@ -130,6 +178,8 @@ void run_shade(const GlobalArguments& global, const ShadeArguments& arguments) {
     const io::TextureFile map = stages.run("read map", [&] { return read_texture_file(arguments.map, format); });
     const io::ReceiverGrid receivers =
         stages.run("read receivers", [&] { return io::read_receivers_exr(arguments.receivers); });
+    ShadeOptions options = shade_options_for(map.texture.format, arguments, lookup, min_variance, light_bleed_reduction);
+    options.frame = frame;
     options.depth_range = range.value_or(map.info.depth_range);
     // Screen pixels for dither: the PX, PY channels, else the receivers' own grid.
     options.screen_width = static_cast<std::uint32_t>(receivers.width);

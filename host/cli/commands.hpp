@@ -22,17 +22,21 @@ struct FilterArguments {
     std::string depth_range = "0,1";
     std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension (.ktx2, .dds, else exr)
     std::string kernel = "automatic"; ///< automatic, fused_paper, fused_cpu or three_pass
+    std::string exponents; ///< EVSM: "C+" or "C+,C-"; empty: the format's defaults
+    std::string exponent;  ///< ESM: "C"; empty: the default
 };
 
 struct ShadeArguments {
     std::string map;
     std::string receivers;
     std::string output;
-    std::string lookup = "bilinear";
-    std::string depth_bias = "1e-3";
+    std::string lookup;      ///< empty: the format's (the format table, shade_defaults)
+    std::string depth_bias;  ///< empty: the format's
     std::string depth_range; ///< empty: the map's msmcl:depthRange
     std::string frame = "0"; ///< dither: the frame number (blue-noise texture and shift)
     std::string format;      ///< empty: the map's; required for DDS maps of msm64/nlq64 texels
+    std::string min_variance;          ///< VSM, EVSM; empty: the format's
+    std::string light_bleed_reduction; ///< VSM, EVSM; empty: 0
 };
 
 /// Global options shared by every subcommand.

@@ -93,30 +93,18 @@ bool ends_with(const std::string& text, const std::string& suffix) {
     return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-/// The decoded quantities of every texel of a filtered map, with the ranges each may take.
+/// The decoded quantities of every texel of a filtered map, with the ranges each may take
+/// (the format's row of the format table: decoded_quantities, decode_texel).
 json texture_channels(const Texture& texture) {
+    std::vector<ChannelStats> stats;
+    for (const DecodedQuantity& quantity : decoded_quantities(texture))
+        stats.push_back({quantity.name, "decoded", std::make_pair(quantity.min, quantity.max)});
     // Every texel of every array layer.
     const std::size_t texels = static_cast<std::size_t>(texture.width) * texture.height * texture.layers;
-    std::vector<ChannelStats> stats;
-    if (texture.format == Format::moments128 || texture.format == Format::msm64) {
-        // Power moments of depths in [-1,1]: odd ones in [-1,1], even ones in [0,1].
-        stats = {{"b1", "decoded", std::make_pair(-1.0, 1.0)}, {"b2", "decoded", std::make_pair(0.0, 1.0)},
-                 {"b3", "decoded", std::make_pair(-1.0, 1.0)}, {"b4", "decoded", std::make_pair(0.0, 1.0)}};
-        const std::size_t words = texture.format == Format::moments128 ? 4 : 2;
-        for (std::size_t t = 0; t < texels; ++t) {
-            const std::uint32_t* w = texture.words.data() + t * words;
-            const Moments4 b = texture.format == Format::moments128 ? decode_moments128(w) : decode_msm64(w);
-            stats[0].add(b.b1), stats[1].add(b.b2), stats[2].add(b.b3), stats[3].add(b.b4);
-        }
-    } else {
-        // Algorithm 2's representation: depths in [-1,1], weight in [0,1], xi4 in [0, 0.25].
-        stats = {{"y1", "decoded", std::make_pair(-1.0, 1.0)}, {"y2", "decoded", std::make_pair(-1.0, 1.0)},
-                 {"v2", "decoded", std::make_pair(0.0, 1.0)}, {"xi4", "decoded", std::make_pair(0.0, 0.25)}};
-        for (std::size_t t = 0; t < texels; ++t) {
-            const NlqTexel n = texture.format == Format::nlq64 ? decode_nlq64(texture.words.data() + 2 * t)
-                                                               : decode_nlq32(texture.words[t]);
-            stats[0].add(n.y1), stats[1].add(n.y2), stats[2].add(n.v2), stats[3].add(n.xi4);
-        }
+    float values[4];
+    for (std::size_t t = 0; t < texels; ++t) {
+        decode_texel(texture, t, values);
+        for (std::size_t c = 0; c < stats.size(); ++c) stats[c].add(values[c]);
     }
     json channels = json::array();
     for (const ChannelStats& s : stats) channels.push_back(s.to_json());

@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", global.quiet, "nothing on stderr but errors: no progress line, no batch summary");
 
     // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--kernel K]
-    //              [--out-container C]
+    //              [--out-container C] [--exponents C+,C- | --exponent C]
     // msmcl filter IN.exr... -o DIR | --list FILE [--shard I/N] [--json FILE|-] (same options)
     // msmcl filter IN.exr... --array OUT.ktx2|OUT.dds (same options): one texture array
     msmcl::cli::FilterArguments filter;
@@ -99,8 +99,17 @@ int main(int argc, char** argv) {
     // texture to write (EXR; .ktx2 or .dds: KTX2 or DDS); or a batch: IN... -o DIR, --list FILE.
     msmcl::cli::BatchArguments filter_batch;
     msmcl::cli::add_batch_options(*filter_command, filter_batch);
-    filter_command->add_option("--format", filter.format, "moments128, msm64, nlq64 or nlq32 (required)")
+    filter_command->add_option("--format", filter.format,
+                               "moments128, msm64, nlq64, nlq32, vsm32, vsm64, evsm2_32, evsm4_64, evsm4_128 or "
+                               "esm32 (required; docs/formats.md)")
         ->type_name("FORMAT");
+    filter_command->add_option("--exponents", filter.exponents,
+                               "EVSM formats: the warp exponents c+ or c+,c- (default: the largest safe for the "
+                               "storage, docs/formats.md)")
+        ->type_name("C+,C-");
+    filter_command->add_option("--exponent", filter.exponent,
+                               "esm32: the warp exponent c (default 80, at most 88)")
+        ->type_name("C");
     filter_command->add_option("--sigma", filter.sigma, "Gaussian sigma in texels, >= 0 (0 = no blur)")
         ->capture_default_str()
         ->type_name("FLOAT");
@@ -118,6 +127,7 @@ int main(int argc, char** argv) {
         ->type_name("CONTAINER");
 
     // msmcl shade MAP.exr RECEIVERS.exr OUT.exr [--lookup L] [--frame N] [--depth-bias B] [--depth-range R]
+    //   [--min-variance V] [--light-bleed-reduction R]
     msmcl::cli::ShadeArguments shade;
     CLI::App* shade_command =
         app.add_subcommand("shade", "Filtered map + receivers (EXR U,V,Z) -> shadow intensity (EXR Y)");
@@ -126,15 +136,22 @@ int main(int argc, char** argv) {
                               "receivers EXR (FLOAT U, V in texels, Z depth; optional PX, PY screen pixels)")
         ->required();
     shade_command->add_option("output", shade.output, "intensity EXR to write (channel Y)")->required();
-    shade_command->add_option("--lookup", shade.lookup, "nearest, bilinear or dither (blue noise, one texel)")
-        ->capture_default_str()
+    shade_command->add_option("--lookup", shade.lookup,
+                              "nearest, bilinear or dither (blue noise, one texel); default: the format's (bilinear)")
         ->type_name("LOOKUP");
     shade_command->add_option("--frame", shade.frame, "dither: frame number (picks the blue-noise texture and shift)")
         ->capture_default_str()
         ->type_name("N");
-    shade_command->add_option("--depth-bias", shade.depth_bias, "subtracted from the receiver's internal depth")
-        ->capture_default_str()
+    shade_command->add_option("--depth-bias", shade.depth_bias,
+                              "subtracted from the receiver's internal depth; default: the format's (1e-3)")
         ->type_name("FLOAT");
+    shade_command->add_option("--min-variance", shade.min_variance,
+                              "VSM and EVSM maps: least variance of the depth in [0,1] for Chebyshev's bound, "
+                              "in [0, 0.25]; default: the format's (docs/formats.md)")
+        ->type_name("V");
+    shade_command->add_option("--light-bleed-reduction", shade.light_bleed_reduction,
+                              "VSM and EVSM maps: rescale the bound from [R,1] to [0,1], R in [0,1); default 0")
+        ->type_name("R");
     shade_command->add_option("--depth-range", shade.depth_range,
                               "depth convention of the receivers: 0,1 or -1,1 (default: the map's)")
         ->type_name("RANGE");

@@ -26,4 +26,13 @@ std::string unknown_value_message(const std::string& option, const std::string& 
 /// --depth-range: "0,1" or "-1,1".
 DepthRange parse_depth_range_option(const std::string& text);
 
+/// The names of every format --format takes, in Format order.
+std::vector<std::string> format_names();
+
+/// --exponents C+[,C-] (EVSM) and --exponent C (ESM) of a filter of `format`, as the
+/// library takes them (0: the default); usage_error for an option of another
+/// representation or a malformed value, input_error naming the limit for one beyond it
+/// (msmcl::effective_exponents). Empty texts: the defaults.
+WarpExponents parse_exponent_options(Format format, const std::string& exponents, const std::string& exponent);
+
 } // namespace msmcl::cli

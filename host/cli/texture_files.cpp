@@ -111,6 +111,10 @@ io::TextureFile read_texture_file(const std::string& path, std::optional<Format>
         if (!recorded) fail(path, "key msmcl:format is '" + *name + "', not a moment shadow map format");
     } else if (const std::vector<Format> candidates = detail::formats_with(image.format); candidates.size() == 1) {
         recorded = candidates.front();
+    } else if (candidates.size() > 1 && format &&
+               std::find(candidates.begin(), candidates.end(), *format) == candidates.end()) {
+        fail(path, std::string(container_name(container)) + " file of " + io::gpu_format_info(image.format).name +
+                       " texels holds no " + format_name(*format) + " texture, --format says " + format_name(*format));
     } else if (candidates.size() > 1 && !format) {
         std::string names, options;
         for (Format candidate : candidates) {

@@ -2,6 +2,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/image_limits.hpp"
+#include "io/texture_metadata.hpp"
 #include "ops/range_scan.hpp"
 #include "runtime/texture_kinds.hpp"
 
@@ -543,8 +544,10 @@ bool is_supported_samples(int samples) {
 }
 
 /// The channels of a texture format (its row of the format table): names in texel order,
-/// one type (FLOAT for float texels, else UINT holding the codes), the bits of each in the
-/// texel's words (32: a whole word; fewer: packed from bit 0 up, as the codes of msm64).
+/// one type (FLOAT for float32 texels, HALF for half texels, else UINT holding the codes),
+/// the bits of each in the texel's words (32: a whole word; fewer: packed from bit 0 up, as
+/// the codes of msm64). HALF channels go through 32-bit slots whose low half is the code
+/// (little-endian, as the texture's words).
 struct TextureLayout {
     std::vector<std::string> channels;
     SampleType type;
@@ -552,8 +555,10 @@ struct TextureLayout {
 };
 TextureLayout texture_layout(Format format) {
     const detail::GpuFormatInfo& pixels = detail::gpu_format_info(detail::texture_kind(format));
-    TextureLayout layout{{}, pixels.kind == detail::ChannelKind::sfloat ? SampleType::float32 : SampleType::uint32,
-                         pixels.channel_bits[0]};
+    const SampleType type = pixels.kind != detail::ChannelKind::sfloat ? SampleType::uint32
+                            : pixels.channel_bits[0] == 16            ? SampleType::half
+                                                                      : SampleType::float32;
+    TextureLayout layout{{}, type, pixels.channel_bits[0]};
     for (std::uint32_t c = 0; c < pixels.channels; ++c) layout.channels.push_back(std::string(1, "RGBA"[c]));
     return layout;
 }
@@ -1006,6 +1011,8 @@ void write_texture_exr(const std::string& path, const Texture& texture, const Te
                         {"msmcl:sigma", info.sigma},
                         {"msmcl:samples", info.samples},
                         {"msmcl:depthRange", std::string(depth_range_name(info.depth_range))}};
+    if (const std::optional<std::string> record = exponents_record(texture))
+        image.attributes.push_back({"msmcl:exponents", *record});
 
     // Encode straight from the texture's words into the file. Whole-word channels (the float
     // bits of moments128, the word of nlq32) are read in place with a texel stride; the
@@ -1089,6 +1096,13 @@ TextureFile read_texture_exr(const std::string& path) {
     const std::optional<DepthRange> depth_range = parse_depth_range(range->value());
     if (!depth_range) fail(path, "attribute msmcl:depthRange is '" + range->value() + "'; it must be 0,1 or -1,1");
     result.info = {sigma->value(), samples->value(), *depth_range};
+    std::optional<std::string> exponents;
+    if (header.find("msmcl:exponents") != header.end()) {
+        const auto* record = header.findTypedAttribute<Imf::StringAttribute>("msmcl:exponents");
+        if (!record) fail(path, "attribute msmcl:exponents is not a string");
+        exponents = record->value();
+    }
+    const WarpExponents warp = exponents_of_record(exponents, *format, path);
 
     // Exactly the channels of the format, of its type.
     const TextureLayout layout = texture_layout(*format);
@@ -1119,6 +1133,7 @@ TextureFile read_texture_exr(const std::string& path) {
     texture.format = *format;
     texture.width = reader.width();
     texture.height = reader.height();
+    texture.exponents = warp;
     const std::size_t words_per_texel = texel_words(*format);
     texture.words.assign(texels * words_per_texel, 0u);
     for (std::size_t t = 0; t < texels; ++t) {

@@ -1,6 +1,8 @@
 // Pixel format table and conversions of host/io/gpu_image.hpp.
 #include "io/gpu_image.hpp"
 
+#include "io/texture_metadata.hpp"
+
 #include <msmcl/errors.hpp>
 
 #include <cstring>
@@ -49,6 +51,8 @@ GpuImage gpu_image_of(const Texture& texture, std::vector<std::pair<std::string,
     GpuImage image =
         image_of_words(gpu_format_of(texture.format), texture.width, texture.height, texture.layers, texture.words);
     image.metadata.emplace_back("msmcl:format", format_name(texture.format));
+    if (const std::optional<std::string> record = exponents_record(texture))
+        image.metadata.emplace_back("msmcl:exponents", *record);
     for (auto& entry : metadata) image.metadata.push_back(std::move(entry));
     return image;
 }
@@ -73,6 +77,7 @@ Texture texture_of(const GpuImage& image, Format format, const std::string& name
     texture.width = image.width;
     texture.height = image.height;
     texture.layers = image.layers;
+    texture.exponents = exponents_of_record(image.find_metadata("msmcl:exponents"), format, name);
     texture.words.resize(image.bytes.size() / sizeof(std::uint32_t));
     if (!image.bytes.empty()) std::memcpy(texture.words.data(), image.bytes.data(), image.bytes.size());
     return texture;

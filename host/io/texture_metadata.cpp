@@ -5,6 +5,8 @@
 #include <msmcl/sat.hpp>
 
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace msmcl::io {
@@ -15,6 +17,27 @@ namespace {
 }
 
 } // namespace
+
+std::optional<std::string> exponents_record(const Texture& texture) {
+    if (max_exponents(texture.format) == WarpExponents{}) return std::nullopt;
+    const WarpExponents used = effective_exponents(texture.format, texture.exponents, "texture");
+    return detail::shortest_text(used.positive) + "," + detail::shortest_text(used.negative);
+}
+
+WarpExponents exponents_of_record(const std::optional<std::string>& record, Format format, const std::string& path) {
+    if (!record) return effective_exponents(format, {}, path.c_str());
+    const std::size_t comma = record->find(',');
+    const auto number = [&](const std::string& text, float& value) {
+        char* end = nullptr;
+        value = std::strtof(text.c_str(), &end);
+        return !text.empty() && end == text.c_str() + text.size() && std::isfinite(value);
+    };
+    WarpExponents exponents;
+    if (comma == std::string::npos || !number(record->substr(0, comma), exponents.positive) ||
+        !number(record->substr(comma + 1), exponents.negative))
+        fail(path, "key msmcl:exponents is '" + *record + "', expected two numbers c+,c-");
+    return effective_exponents(format, exponents, path.c_str());
+}
 
 std::optional<long long> metadata_integer(const GpuImage& image, const std::string& path, const char* key,
                                           long long lowest, long long highest) {

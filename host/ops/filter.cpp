@@ -63,7 +63,7 @@ struct CpuTiling {
 // format: a device runs the kernel for all formats or for none.
 unsigned long long most_local_bytes(FilterKernel kernel, const CpuTiling& tiling) {
     unsigned long long most = 0;
-    for (Format format : detail::moment_formats())
+    for (Format format : detail::filter_formats())
         most = std::max(most, detail::filter_local_bytes(kernel, format, tiling.width));
     return most;
 }
@@ -171,7 +171,8 @@ FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
 }
 
 std::vector<std::string> kernel_defines(int samples, const FilterOptions& options, int layers, int array_layers) {
-    return detail::filter_defines(samples, options.format, options.depth_range, layers, array_layers > 1);
+    return detail::filter_defines(samples, options.format, options.depth_range, layers, array_layers > 1,
+                                  options.exponents);
 }
 
 // The launch grid of `groups` (2D) over `array_layers` layers: a third dimension for texture
@@ -198,8 +199,9 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
                             const cl::Buffer& texture, const FilterOptions& options, int samples,
                             const std::array<float, 9>& taps, const LayerBuffers& layers, int array_layers,
                             const CpuTiling& tiling) {
-    const std::vector<std::string> defines = detail::filter_cpu_defines(
-        samples, options.format, options.depth_range, layers.count, array_layers > 1, tiling.width);
+    const std::vector<std::string> defines =
+        detail::filter_cpu_defines(samples, options.format, options.depth_range, layers.count, array_layers > 1,
+                                   tiling.width, options.exponents);
     // Tile grid; tile columns [ix0, ix1) read and write no column outside the image.
     const int tiles_x = (width + tiling.width - 1) / tiling.width;
     const int tiles_y = (height + tiling.height - 1) / tiling.height;
@@ -302,7 +304,7 @@ FilterPlan plan_filter(detail::ContextImpl& impl, FilterKernel requested, int sa
             const detail::KernelFit fit = detail::kernel_fit(
                 impl, impl.kernel("filter_fused_cpu.cl",
                                   detail::filter_cpu_defines(samples, options.format, options.depth_range, layers,
-                                                             array_layers > 1, tiling->width),
+                                                             array_layers > 1, tiling->width, options.exponents),
                                   "filter_fused_cpu_border"));
             const unsigned long long local_bytes =
                 detail::filter_local_bytes(FilterKernel::fused_cpu, options.format, tiling->width);
@@ -456,9 +458,11 @@ FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested)
     return choose_kernel(device, requested);
 }
 
-// Compile-time variant: sample count, format (its row of the format table), depth convention.
-std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array) {
-    std::vector<std::string> defines = texture_kind_defines(format);
+// Compile-time variant: sample count, format (its row of the format table, with the warp's
+// exponents), depth convention.
+std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array,
+                                        WarpExponents exponents) {
+    std::vector<std::string> defines = texture_kind_defines(format, exponents);
     defines.push_back("MSM_SAMPLES=" + std::to_string(samples));
     defines.push_back("MSM_DEPTH_ZERO_ONE=" + std::string(range == DepthRange::zero_one ? "1" : "0"));
     // Translucent layers: the compositing resolve (opaque maps keep the opaque program).
@@ -470,10 +474,10 @@ std::vector<std::string> filter_defines(int samples, Format format, DepthRange r
 
 // The CPU kernel adds its tile.
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers, bool array,
-                                            int tile_width) {
+                                            int tile_width, WarpExponents exponents) {
     CpuTiling tiling = cpu_tiling();
     if (tile_width > 0) tiling.width = tile_width;
-    std::vector<std::string> defines = filter_defines(samples, format, range, layers, array);
+    std::vector<std::string> defines = filter_defines(samples, format, range, layers, array, exponents);
     defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
     defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));
     return defines;
@@ -525,6 +529,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
                           std::to_string(depth.depth.size()));
     }
     gaussian_taps(options.sigma); // throws input_error for a bad sigma
+    const WarpExponents exponents = effective_exponents(options.format, options.exponents, "filter");
     detail::validate_depth_values("filter", depth, options.depth_range);
     detail::validate_layers("filter", depth, layers, options.depth_range);
     detail::ContextImpl& impl = context.impl();
@@ -538,6 +543,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
     texture.width = depth.width;
     texture.height = depth.height;
     texture.layers = depth.layers;
+    texture.exponents = exponents;
     texture.words.resize(detail::texel_count(depth.width, depth.height) * texel_words(options.format) *
                          static_cast<std::size_t>(depth.layers));
     const cl::Buffer depth_buffer =

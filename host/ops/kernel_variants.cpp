@@ -78,7 +78,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
     };
 
     // filter: the three distributions, every format.
-    for (Format format : moment_formats()) {
+    for (Format format : filter_formats()) {
         for (const DepthVariant& v : depth_variants(full, {1, 2, 4, 8, 16}, {1, 4})) {
             variants.push_back({"filter", "filter_fused_gpu.cl", filter_defines(v.samples, format, v.range, v.layers),
                                 {{"filter_fused_gpu", on_gpu(FilterKernel::fused_paper)}},
@@ -200,7 +200,7 @@ std::vector<KernelVariant> kernel_variants(bool full) {
     // soft shadows, shade.
     for (DepthRange range : {DepthRange::zero_one, DepthRange::minus_one_one})
         variants.push_back({"soft", "sat_soft.cl", soft_defines(range), {{"sat_soft_shade", true}}, range_text(range)});
-    for (Format format : moment_formats()) {
+    for (Format format : filter_formats()) {
         for (Lookup lookup : {Lookup::nearest, Lookup::bilinear, Lookup::dither}) {
             for (DepthRange range : {DepthRange::zero_one, DepthRange::minus_one_one}) {
                 if (!full && range == DepthRange::minus_one_one && lookup != Lookup::bilinear) continue;

@@ -20,8 +20,10 @@ namespace msmcl::detail {
 /// The kernel `requested` resolves to on `device` (automatic decides by the device).
 FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested);
 /// Defines of filter_fused_gpu.cl and filter_three_pass.cl; `array`: the texture-array
-/// program (MSM_ARRAY, one launch for every layer of a layered depth map).
-std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array = false);
+/// program (MSM_ARRAY, one launch for every layer of a layered depth map); `exponents`: the
+/// warp's (0: the format's defaults; texture_kind_defines).
+std::vector<std::string> filter_defines(int samples, Format format, DepthRange range, int layers, bool array = false,
+                                        WarpExponents exponents = {});
 /// Local memory in bytes of one work-group of `kernel` (fused_paper, fused_cpu with tiles
 /// `cpu_tile_width` wide) for `format`: the sizes the kernels compile with
 /// (kernels/fused_layout.clh, fused_cpu_layout.clh); 0 for the others.
@@ -31,7 +33,7 @@ int filter_cpu_tile_width();
 /// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE), or tiles
 /// `tile_width` wide (the narrower tile of a device with smaller groups).
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers,
-                                            bool array = false, int tile_width = 0);
+                                            bool array = false, int tile_width = 0, WarpExponents exponents = {});
 
 // --- sat (host/ops/sat.cpp)
 /// The distribution `requested` resolves to on `device`.

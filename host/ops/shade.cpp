@@ -31,6 +31,8 @@ std::optional<Lookup> parse_lookup(std::string_view name) noexcept { return deta
 namespace {
 
 void check_map_shape(Format format, int width, int height, const detail::ContextImpl& impl) {
+    if (!detail::is_known(format))
+        throw input_error("shade: unknown format " + std::to_string(static_cast<int>(format)));
     if (width <= 0 || height <= 0)
         throw input_error("shade: the map is empty (" + std::to_string(width) + "x" + std::to_string(height) + ")");
     const unsigned long long bytes = static_cast<unsigned long long>(width) * height * texel_bytes(format);
@@ -40,17 +42,45 @@ void check_map_shape(Format format, int width, int height, const detail::Context
                           std::to_string(impl.info.max_alloc_bytes) + " bytes)");
 }
 
-void check_options(const ShadeOptions& options) {
+void check_options(Format format, const ShadeOptions& options) {
     if (!std::isfinite(options.depth_bias))
         throw input_error("shade: the depth bias must be finite");
     if (options.lookup != Lookup::nearest && options.lookup != Lookup::bilinear && options.lookup != Lookup::dither)
         throw input_error("shade: unknown lookup " + std::to_string(static_cast<int>(options.lookup)));
+    // The minimum variance and the light-bleed reduction belong to Chebyshev's bound (VSM, EVSM).
+    const bool variance_bound = detail::texture_kind(format).host_shading->variance_bound;
+    if (options.min_variance) {
+        if (!variance_bound)
+            throw input_error(std::string("shade: a minimum variance is for VSM and EVSM maps, not ") + format_name(format));
+        if (!(*options.min_variance >= 0.0f && *options.min_variance <= 0.25f))
+            throw input_error("shade: the minimum variance must be in [0, 0.25], got " +
+                              std::to_string(*options.min_variance));
+    }
+    if (options.light_bleed_reduction != 0.0f) {
+        if (!variance_bound)
+            throw input_error(std::string("shade: light-bleed reduction is for VSM and EVSM maps, not ") +
+                              format_name(format));
+        if (!(options.light_bleed_reduction >= 0.0f && options.light_bleed_reduction < 1.0f))
+            throw input_error("shade: the light-bleed reduction must be in [0, 1), got " +
+                              std::to_string(options.light_bleed_reduction));
+    }
 }
 
 // Bytes of one blue-noise texture (64 x 64 texels, 2 channels).
 constexpr std::size_t blue_noise_texture_bytes = 64 * 64 * 2;
 
 } // namespace
+
+ShadeOptions shade_defaults(Format format) {
+    if (!detail::is_known(format))
+        throw input_error("shade_defaults: unknown format " + std::to_string(static_cast<int>(format)));
+    const detail::ShadingDefaults& defaults = detail::texture_kind(format).shading_defaults;
+    ShadeOptions options;
+    options.depth_bias = defaults.depth_bias;
+    options.lookup = defaults.lookup;
+    if (detail::texture_kind(format).host_shading->variance_bound) options.min_variance = defaults.min_variance;
+    return options;
+}
 
 namespace detail {
 
@@ -74,7 +104,7 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_
            std::size_t count, cl_mem intensity, const ShadeOptions& options, const Enqueue& enqueue) {
     detail::ContextImpl& impl = context.impl();
     check_map_shape(map.format, map.width, map.height, impl);
-    check_options(options);
+    check_options(map.format, options);
     if (!map.buffer || !receivers_uvz || !intensity)
         throw input_error("shade: null cl_mem argument");
     if (count > std::numeric_limits<cl_uint>::max())
@@ -98,6 +128,15 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_
     detail::set_arg(kernel, 4, static_cast<cl_uint>(count));
     detail::set_arg(kernel, 5, intensity);
     detail::set_arg(kernel, 6, options.depth_bias);
+    // The warped formats' shading (docs/math.md): the texture's exponents, V and R; after the
+    // lookup's own arguments (12 for dither, else 7).
+    const WarpExponents exponents = effective_exponents(map.format, map.exponents, "shade");
+    const cl_uint first = dither ? 12 : 7;
+    detail::set_arg(kernel, first, exponents.positive);
+    detail::set_arg(kernel, first + 1, exponents.negative);
+    detail::set_arg(kernel, first + 2,
+                    options.min_variance.value_or(detail::texture_kind(map.format).shading_defaults.min_variance));
+    detail::set_arg(kernel, first + 3, options.light_bleed_reduction);
     cl::Buffer noise_buffer;
     if (dither) {
         // The frame's blue-noise texture (8 KiB) and its shift; pixels given or row-major.
@@ -134,7 +173,7 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
     detail::ContextImpl& impl = context.impl();
     check_map_shape(map.format, map.width, map.height, impl);
     detail::require_single_layer("shade", "the map", map.layers);
-    check_options(options);
+    check_options(map.format, options);
     const std::size_t texels = static_cast<std::size_t>(map.width) * map.height;
     if (map.words.size() != texels * texel_words(map.format))
         throw input_error("shade: the map holds " + std::to_string(map.words.size()) + " words, a " +
@@ -166,7 +205,7 @@ std::vector<float> shade(Context& context, const Texture& map, const Receivers& 
     }
 
     stages.uploaded({&map_buffer, &receiver_buffer, &pixel_buffer});
-    shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height}, receiver_buffer(), pixel_buffer(),
+    shade(context, DeviceTexture{map_buffer(), map.format, map.width, map.height, map.exponents}, receiver_buffer(), pixel_buffer(),
           count, result_buffer(), options, Enqueue{});
     stages.computed();
     std::vector<float> intensity = detail::read_floats(impl, result_buffer, count, "clEnqueueReadBuffer(intensity)");

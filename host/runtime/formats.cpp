@@ -4,6 +4,9 @@
 #include <msmcl/errors.hpp>
 #include <msmcl/formats.hpp>
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -32,19 +35,83 @@ std::size_t texel_bytes(Format format) noexcept {
     return detail::is_known(format) ? detail::gpu_format_info(detail::texture_kind(format)).texel_bytes : 0;
 }
 
+WarpExponents default_exponents(Format format) noexcept {
+    return detail::is_known(format) ? detail::texture_kind(format).warp.defaults : WarpExponents{};
+}
+
+WarpExponents max_exponents(Format format) noexcept {
+    return detail::is_known(format) ? detail::texture_kind(format).warp.largest : WarpExponents{};
+}
+
+std::string detail::shortest_text(float value) {
+    char text[32];
+    for (int digits = 1; digits <= 9; ++digits) {
+        std::snprintf(text, sizeof text, "%.*g", digits, double(value));
+        if (std::strtof(text, nullptr) == value) break;
+    }
+    return text;
+}
+
+namespace {
+
+using detail::shortest_text;
+
+// One exponent of `requested`: 0 -> the default; else within (0, largest].
+float effective_exponent(Format format, float requested, float fallback, float largest, const char* lane,
+                         const char* what) {
+    const std::string prefix = std::string(what) + ": exponent " + lane + " " + shortest_text(requested) + " of " +
+                               format_name(format);
+    if (largest == 0.0f) {
+        if (requested != 0.0f) throw input_error(prefix + ": the format has no such warp");
+        return 0.0f;
+    }
+    if (!std::isfinite(requested) || requested < 0.0f)
+        throw input_error(prefix + ": exponents are finite and > 0 (0 = the default " + shortest_text(fallback) + ")");
+    if (requested > largest)
+        throw input_error(prefix + " is beyond its safe limit " + shortest_text(largest) +
+                          " (the stored warp would overflow; docs/formats.md)");
+    return requested == 0.0f ? fallback : requested;
+}
+
+} // namespace
+
+WarpExponents effective_exponents(Format format, WarpExponents requested, const char* what) {
+    if (!detail::is_known(format)) throw input_error(std::string(what) + ": unknown format");
+    const detail::WarpLimits& warp = detail::texture_kind(format).warp;
+    return {effective_exponent(format, requested.positive, warp.defaults.positive, warp.largest.positive, "c+", what),
+            effective_exponent(format, requested.negative, warp.defaults.negative, warp.largest.negative, "c-", what)};
+}
+
 namespace detail {
 
-std::vector<std::string> texture_kind_defines(Format format) {
+namespace {
+// A float as an OpenCL C literal that reads back exactly: "0x1.628f5cp+2f".
+std::string float_literal(float value) {
+    char text[48];
+    std::snprintf(text, sizeof text, "%af", double(value));
+    return text;
+}
+} // namespace
+
+std::vector<std::string> texture_kind_defines(Format format, WarpExponents exponents) {
     std::vector<std::string> defines;
     for (const TextureKind& kind : kTextureKinds)
         if (kind.format)
             defines.push_back(std::string(kind.kernel_constant) + "=" + std::to_string(static_cast<int>(*kind.format)));
+    for (const RepresentationInfo& representation : kRepresentations)
+        defines.push_back(std::string(representation.kernel_constant) + "=" +
+                          std::to_string(static_cast<int>(representation.representation)));
     const TextureKind& kind = texture_kind(format);
     defines.push_back(std::string("MSM_FORMAT=") + kind.kernel_constant);
+    defines.push_back(std::string("MSM_REPRESENTATION=") + representation_info(kind.representation).kernel_constant);
     defines.push_back("MSM_TEXEL_WORDS=" + std::to_string(gpu_format_info(kind).texel_bytes / 4));
     defines.push_back(std::string("MSM_FORMAT_SHIFTED=") + (kind.shifted ? "1" : "0"));
     defines.push_back(std::string("MSM_BLENDS_MOMENTS=") + (kind.blends_moments ? "1" : "0"));
     defines.push_back(std::string("MSM_FLOAT_TEXELS=") + (float_texels(kind) ? "1" : "0"));
+    defines.push_back(std::string("MSM_HALF_TEXELS=") + (half_texels(kind) ? "1" : "0"));
+    const WarpExponents warp = effective_exponents(format, exponents, "filter");
+    defines.push_back("MSM_WARP_POSITIVE=" + float_literal(warp.positive));
+    defines.push_back("MSM_WARP_NEGATIVE=" + float_literal(warp.negative));
     return defines;
 }
 
@@ -65,7 +132,8 @@ Texture Texture::layer(int index) const {
         throw input_error("texture: holds " + std::to_string(words.size()) + " words, " + std::to_string(layers) +
                           " layers need " + std::to_string(layer_words * static_cast<std::size_t>(layers)));
     const auto first = words.begin() + static_cast<std::ptrdiff_t>(layer_words * static_cast<std::size_t>(index));
-    return Texture{format, width, height, std::vector<std::uint32_t>(first, first + static_cast<std::ptrdiff_t>(layer_words))};
+    return Texture{format, width, height, std::vector<std::uint32_t>(first, first + static_cast<std::ptrdiff_t>(layer_words)),
+                   1, exponents};
 }
 
 std::uint16_t Texture::code16(int x, int y, int c) const {

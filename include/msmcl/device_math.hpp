@@ -8,6 +8,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace msmcl {
 
@@ -38,8 +40,25 @@ float linear_shadow(const Moments4& unbiased, float alpha, float bstar, float zf
 float nlq_shadow(const NlqTexel& texel, float zf);
 
 /// Shadow intensity of one texel of `map` at internal depth zf (bias of the format
-/// applied), the device's per-texel shading.
+/// applied), the device's per-texel shading, with the format's default minimum variance
+/// (VSM, EVSM) and no light-bleed reduction.
 float shade_texel(const Texture& map, int x, int y, float zf);
+/// The same with the minimum variance and light-bleed reduction of `options` (VSM, EVSM).
+float shade_texel(const Texture& map, int x, int y, float zf, const ShadeOptions& options);
+
+/// One quantity a texel holds, decoded (what `msmcl info` counts): its name ("b1", "y1",
+/// "t", "p", ...) and the range its meaning allows.
+struct DecodedQuantity {
+    std::string name;
+    double min = 0;
+    double max = 0;
+};
+/// The quantities of a texel of `texture`'s format (1 to 4; the ranges of warps from the
+/// texture's exponents).
+std::vector<DecodedQuantity> decoded_quantities(const Texture& texture);
+/// Decodes texel `index` of `texture.words` (every layer, row-major: index < width * height
+/// * layers) into decoded_quantities(texture).size() values.
+void decode_texel(const Texture& texture, std::size_t index, float values[4]);
 /// The whole lookup of the `shade` kernel for one receiver (u, v in texels, z as
 /// rendered), on the host. A dithered lookup counts the receiver as screen pixel (0, 0).
 float shade_receiver(const Texture& map, float u, float v, float z, const ShadeOptions& options);

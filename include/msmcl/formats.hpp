@@ -10,13 +10,33 @@
 
 namespace msmcl {
 
-/// Storage formats of a filtered moment shadow map (docs/math.md).
+/// Storage formats of a filtered shadow map: the moment formats (docs/math.md) and the
+/// other filterable representations engines ship (docs/formats.md, "Filterable
+/// representations"). t is the depth mapped to [0,1] (t = (z + 1)/2), x = 2t - 1 = z.
 enum class Format {
     moments128, ///< 4 x float32: b1..b4 of z in [-1,1]
     msm64,      ///< 4 x unorm16 of the optimized affine basis (R,G,B,A)
     nlq64,      ///< 4 x unorm16: (y1+1)/2, (y2+1)/2, v2, Psi4(xi4) (rounded up)
     nlq32,      ///< 1 x uint32: Psi4 (6 bits), sqrt(v2) (7), folded y1 (9), y2 (10)
+    vsm32,      ///< 2 x unorm16: (t, t^2) (variance shadow map)
+    vsm64,      ///< 2 x float32: (t, t^2)
+    evsm2_32,   ///< 2 x half: (p, p^2), p = exp(c+ x) (exponential variance shadow map)
+    evsm4_64,   ///< 4 x half: (p, p^2, n, n^2), n = -exp(-c- x)
+    evsm4_128,  ///< 4 x float32: as evsm4_64
+    esm32,      ///< 1 x float32: exp(c (t - 1)) (exponential shadow map)
 };
+
+/// The exponents of the exponential warps (docs/formats.md, "Filterable representations"):
+/// EVSM's c+ and c-, ESM's c in `positive`. 0 means the format's default
+/// (default_exponents); formats without a warp take none.
+struct WarpExponents {
+    float positive = 0.f;
+    float negative = 0.f;
+};
+inline bool operator==(WarpExponents a, WarpExponents b) noexcept {
+    return a.positive == b.positive && a.negative == b.negative;
+}
+inline bool operator!=(WarpExponents a, WarpExponents b) noexcept { return !(a == b); }
 
 /// Convention of the depth values as rendered.
 enum class DepthRange {
@@ -24,7 +44,8 @@ enum class DepthRange {
     minus_one_one, ///< d in [-1,1] (OpenGL): z = d
 };
 
-/// "moments128", "msm64", "nlq64", "nlq32".
+/// "moments128", "msm64", "nlq64", "nlq32", "vsm32", "vsm64", "evsm2_32", "evsm4_64",
+/// "evsm4_128", "esm32".
 const char* format_name(Format format) noexcept;
 /// Inverse of format_name; std::nullopt for an unknown name.
 std::optional<Format> parse_format(std::string_view name) noexcept;
@@ -32,9 +53,23 @@ std::optional<Format> parse_format(std::string_view name) noexcept;
 const char* depth_range_name(DepthRange range) noexcept;
 std::optional<DepthRange> parse_depth_range(std::string_view name) noexcept;
 
-/// Bytes per texel of a format: 16, 8, 8, 4.
+/// The exponents a format warps with when its filter options give 0: 5.54 for half storage
+/// (evsm2_32, evsm4_64: c+ and c-), 40 and 5 for evsm4_128, 80 for esm32 (in `positive`);
+/// 0 for the lanes a format has no warp for (the moment formats and VSM have none).
+WarpExponents default_exponents(Format format) noexcept;
+/// The largest exponents a format stores without Inf: the warp squared fits the storage
+/// (half: ln(65504)/2 = 5.545; float32 EVSM: 42, leaving room for the resolve's sum of 16
+/// samples; esm32: 88 < ln(FLT_MAX), so that shading's exp(c (1 - t)) stays finite); 0
+/// for the lanes without a warp. docs/formats.md derives them.
+WarpExponents max_exponents(Format format) noexcept;
+/// The exponents a filter of `format` uses for `requested`: 0 replaced by the default.
+/// Throws input_error naming the limit for a value that is negative, not finite, beyond
+/// max_exponents, or given for a lane the format has no warp for (`what` leads the message).
+WarpExponents effective_exponents(Format format, WarpExponents requested, const char* what = "filter");
+
+/// Bytes per texel of a format: 16, 8, 8, 4 (moment formats), 4, 8, 4, 8, 16, 4.
 std::size_t texel_bytes(Format format) noexcept;
-/// 32-bit words per texel: 4, 2, 2, 1.
+/// 32-bit words per texel: texel_bytes / 4.
 inline std::size_t texel_words(Format format) noexcept { return texel_bytes(format) / 4; }
 
 /// Internal depth z in [-1,1] of a rendered depth value.
@@ -74,13 +109,19 @@ struct DepthImage {
 ///  - moments128: words are the float32 bits of b1, b2, b3, b4;
 ///  - msm64/nlq64: four uint16 codes, channel 0 in the low half of word 0,
 ///    channel 1 in its high half, channels 2 and 3 likewise in word 1;
-///  - nlq32: one word per texel.
+///  - nlq32, esm32: one word per texel;
+///  - vsm32, evsm2_32: two 16-bit codes (unorm16, half) in one word, channel 0 low;
+///  - vsm64: the float32 bits of t, t^2; evsm4_128: of p, p^2, n, n^2;
+///  - evsm4_64: four half codes laid out as msm64's.
 struct Texture {
     Format format = Format::moments128;
     int width = 0;
     int height = 0;
     std::vector<std::uint32_t> words;
     int layers = 1; ///< array layers in `words`
+    /// The warp's exponents the texels were made with (filter writes them, the file readers
+    /// and writers keep them, shading reads them); 0 for the lanes without a warp.
+    WarpExponents exponents;
 
     const std::uint32_t* texel(int x, int y, int layer = 0) const {
         using std::size_t;

@@ -8,7 +8,8 @@
  * valid until the next such call on the same thread.
  *
  * Versions: before 1.0 every 0.x minor version may break the ABI (SONAME libmsmcl.so.0.1).
- * The option structs grew in 0.1 (msmcl_shade_options: frame, screen_width;
+ * The option structs grew in 0.1 (msmcl_shade_options: frame, screen_width, then
+ * min_variance, light_bleed_reduction, exponent_positive, exponent_negative;
  * msmcl_sat_options: kernel); new fields
  * only ever go at the end, so callers that fill a struct with its *_init function and
  * then set fields stay source compatible, but must be rebuilt.
@@ -78,7 +79,14 @@ typedef enum msmcl_format {
     MSMCL_FORMAT_MOMENTS128 = 0, /* 16 bytes: float b1..b4;            CL_RGBA/CL_FLOAT */
     MSMCL_FORMAT_MSM64 = 1,      /* 8 bytes: unorm16 affine basis;      CL_RGBA/CL_UNORM_INT16 */
     MSMCL_FORMAT_NLQ64 = 2,      /* 8 bytes: unorm16 y1, y2, v2, Psi4;  CL_RGBA/CL_UNORM_INT16 */
-    MSMCL_FORMAT_NLQ32 = 3       /* 4 bytes: packed uint32;             CL_R/CL_UNSIGNED_INT32 */
+    MSMCL_FORMAT_NLQ32 = 3,      /* 4 bytes: packed uint32;             CL_R/CL_UNSIGNED_INT32 */
+    /* The other filterable representations (docs/formats.md, "Filterable representations"). */
+    MSMCL_FORMAT_VSM32 = 4,      /* 4 bytes: unorm16 t, t^2;             CL_RG/CL_UNORM_INT16 */
+    MSMCL_FORMAT_VSM64 = 5,      /* 8 bytes: float t, t^2;               CL_RG/CL_FLOAT */
+    MSMCL_FORMAT_EVSM2_32 = 6,   /* 4 bytes: half p, p^2;                CL_RG/CL_HALF_FLOAT */
+    MSMCL_FORMAT_EVSM4_64 = 7,   /* 8 bytes: half p, p^2, n, n^2;        CL_RGBA/CL_HALF_FLOAT */
+    MSMCL_FORMAT_EVSM4_128 = 8,  /* 16 bytes: float p, p^2, n, n^2;      CL_RGBA/CL_FLOAT */
+    MSMCL_FORMAT_ESM32 = 9       /* 4 bytes: float exp(c (t - 1));       CL_R/CL_FLOAT */
 } msmcl_format;
 
 typedef enum msmcl_depth_range {
@@ -109,7 +117,8 @@ typedef enum msmcl_sample_layout {
 
 /* Bytes per texel of a format (16, 8, 8, 4); 0 for an unknown value. */
 MSMCL_C_API size_t msmcl_texel_bytes(msmcl_format format);
-/* "moments128", "msm64", "nlq64", "nlq32"; NULL for an unknown value. */
+/* "moments128", "msm64", "nlq64", "nlq32", "vsm32", "vsm64", "evsm2_32", "evsm4_64",
+ * "evsm4_128", "esm32"; NULL for an unknown value. */
 MSMCL_C_API const char* msmcl_format_name(msmcl_format format);
 /* Inverse of msmcl_format_name: MSMCL_ERROR_INVALID_ARGUMENT for an unknown name. */
 MSMCL_C_API msmcl_status msmcl_parse_format(const char* name, msmcl_format* format);
@@ -171,6 +180,10 @@ typedef struct msmcl_filter_options {
     float sigma;                   /* Gaussian sigma in texels, default 2.4; 0 = no blur */
     msmcl_depth_range depth_range; /* default MSMCL_DEPTH_RANGE_ZERO_ONE */
     msmcl_filter_kernel kernel;    /* default MSMCL_FILTER_KERNEL_AUTOMATIC */
+    /* EVSM's c+ and c-, ESM's c (in exponent_positive); default 0 = the format's default;
+     * only for the formats with a warp (include/msmcl/formats.hpp, effective_exponents). */
+    float exponent_positive;
+    float exponent_negative;
 } msmcl_filter_options;
 
 MSMCL_C_API void msmcl_filter_options_init(msmcl_filter_options* options);
@@ -257,6 +270,14 @@ typedef struct msmcl_shade_options {
     uint32_t frame;        /* the frame number: its hash picks the blue-noise texture and shift; default 0 */
     uint32_t screen_width; /* receivers without pixels: receiver i is pixel (i % screen_width,
                               i / screen_width) of a row-major image; 0 = one row (pixel (i, 0)); default 0 */
+    /* VSM and EVSM maps only (docs/math.md, "Shading VSM, EVSM and ESM"). */
+    float min_variance;          /* least variance of the depth in [0,1], in [0, 0.25]; negative
+                                    (the default, -1) = the format's (docs/formats.md) */
+    float light_bleed_reduction; /* R in [0, 1): the bound rescaled from [R,1] to [0,1]; default 0 */
+    /* EVSM and ESM maps: the exponents the texture was made with (EVSM's c+ and c-,
+     * ESM's c in exponent_positive; as msmcl_filter_options); default 0 = the format's default. */
+    float exponent_positive;
+    float exponent_negative;
 } msmcl_shade_options;
 
 MSMCL_C_API void msmcl_shade_options_init(msmcl_shade_options* options);

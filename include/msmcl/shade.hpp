@@ -18,6 +18,10 @@ namespace msmcl {
 const char* lookup_name(Lookup lookup) noexcept;
 std::optional<Lookup> parse_lookup(std::string_view name) noexcept;
 
+/// The shading options of `format` from the format table (docs/formats.md): its depth bias,
+/// lookup and, for VSM and EVSM, its minimum variance.
+ShadeOptions shade_defaults(Format format);
+
 /// Shadow intensity (0 lit, 1 shadowed) for each receiver. Throws input_error for an
 /// empty map, mismatched receiver arrays, or non-finite receiver values.
 std::vector<float> shade(Context& context, const Texture& map, const Receivers& receivers,

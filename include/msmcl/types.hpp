@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,9 @@ struct FilterOptions {
     DepthRange depth_range = DepthRange::zero_one;
     FilterKernel kernel = FilterKernel::automatic;
     StageObserver on_stage; ///< the host call's stage timings (none: not timed)
+    /// EVSM's c+ and c-, ESM's c (in `positive`); 0 = the format's default. Only for the
+    /// formats with a warp (effective_exponents, include/msmcl/formats.hpp).
+    WarpExponents exponents;
 };
 
 // ---- Filtered maps and their shading (shade)
@@ -103,6 +107,7 @@ struct DeviceTexture {
     Format format = Format::nlq64;
     int width = 0;
     int height = 0;
+    WarpExponents exponents; ///< as Texture::exponents: what the filter used
 };
 
 /// How shade() reads the map at a receiver.
@@ -115,6 +120,8 @@ enum class Lookup {
               ///< averaged over frames, the bilinear blend of the shaded texels
 };
 
+/// The defaults below are the moment formats'; shade_defaults(format) (shade.hpp) gives any
+/// format's, from the format table (docs/formats.md).
 struct ShadeOptions {
     Lookup lookup = Lookup::bilinear;
     /// Subtracted from the receiver's internal depth z (2d - 1 or d, see DepthRange) before shading.
@@ -127,6 +134,13 @@ struct ShadeOptions {
     /// i / screen_width) of a row-major image; 0 = one row (pixel (i, 0)).
     std::uint32_t screen_width = 0;
     StageObserver on_stage; ///< the host call's stage timings (none: not timed)
+    /// VSM and EVSM: the least variance of the depth t in [0, 1] that Chebyshev's bound assumes,
+    /// in [0, 0.25] (docs/math.md, "Shading VSM, EVSM and ESM"); none: the format's default
+    /// (docs/formats.md, the format table). Refused for the other formats.
+    std::optional<float> min_variance;
+    /// VSM and EVSM: light-bleed reduction R in [0, 1), the bound rescaled from [R, 1] to
+    /// [0, 1]; 0 is the method as published. A nonzero R is refused for the other formats.
+    float light_bleed_reduction = 0.0f;
 };
 
 /// Screen pixel of each receiver (dither indexes the blue noise by it; the other lookups

@@ -1,10 +1,13 @@
 // Shading receivers from one msmcl texture, as a renderer's shader would: the functions
 // of shaders/msm.glsl on a VkImage of the texture's documented format.
-// MSM_FORMAT (set at build time): 0 moments128 (R32G32B32A32_SFLOAT), 1 msm64 and
-// 2 nlq64 (R16G16B16A16_UNORM), 3 nlq32 (R32_UINT).
+// MSM_FORMAT (set at build time, include/msmcl/formats.hpp order): 0 moments128
+// (R32G32B32A32_SFLOAT), 1 msm64 and 2 nlq64 (R16G16B16A16_UNORM), 3 nlq32 (R32_UINT); 4 and up
+// the VSM, EVSM and ESM formats (vsm32 R16G16_UNORM, vsm64 R32G32_SFLOAT, evsm2_32 R16G16_SFLOAT,
+// evsm4_64 R16G16B16A16_SFLOAT, evsm4_128 R32G32B32A32_SFLOAT, esm32 R32_SFLOAT), sampled as
+// floats and shaded by msm_lookup_warped with the push constants' msm_warp_shading.
 // Lookups: 0 nearest, 1 bilinear, 2 dithered (blue noise, RG8UI), all through texelFetch
 // (msm_lookup_*), and 3 hardware bilinear: one textureLod through the linear sampler
-// (moments128 and msm64 only: docs/shaders.md allows filtering them).
+// (the formats docs/shaders.md allows filtering: moments128, msm64, VSM, EVSM, ESM).
 // MSM_ARRAY=1: the map is a texture array (sampler2DArray, usampler2DArray) and the
 // receivers are shaded from its layer `params.layer` (msm_lookup_*_array).
 #version 450
@@ -50,6 +53,11 @@ layout(push_constant) uniform Params {
     uint noise_offset_y;
     uint accurate;       // moments128: the float-float path (msm_lookup_moments128_accurate)
     int layer;           // MSM_ARRAY: the array layer shaded
+    int representation;  // VSM, EVSM, ESM: msm_warp_shading as the host makes it
+    float warp_positive;
+    float warp_negative;
+    float min_variance;
+    float light_bleed_reduction;
 } params;
 
 // The map's lookups, on the 2D map or on layer params.layer of the array (the same math).
@@ -95,7 +103,16 @@ void main() {
     shadow[i] = MSM_LOOKUP(msm_lookup_msm64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #elif MSM_FORMAT == 2
     shadow[i] = MSM_LOOKUP(msm_lookup_nlq64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
-#else
+#elif MSM_FORMAT == 3
     shadow[i] = MSM_LOOKUP(msm_lookup_nlq32) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#else
+    msm_warp_shading warp = msm_warp_shading_make(params.representation, params.warp_positive, params.warp_negative,
+                                                  params.min_variance, params.light_bleed_reduction);
+    if (params.lookup == 3) {
+        vec2 uv = vec2(r.u / float(params.width), r.v / float(params.height));
+        shadow[i] = msm_shadow_warped(msm_decode_moments128(textureLod(shadow_map, MSM_FILTERED_UV(uv), 0.0f)), zf, warp);
+        return;
+    }
+    shadow[i] = MSM_LOOKUP(msm_lookup_warped) params.width, params.height, r.u, r.v, zf, params.lookup, noise, warp);
 #endif
 }

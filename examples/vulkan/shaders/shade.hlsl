@@ -42,6 +42,11 @@ struct Params {
     uint noise_offset_y;
     uint accurate;
     int layer; // MSM_ARRAY: the array layer shaded
+    int representation; // VSM, EVSM, ESM: msm_warp_shading as the host makes it
+    float warp_positive;
+    float warp_negative;
+    float min_variance;
+    float light_bleed_reduction;
 };
 [[vk::push_constant]] ConstantBuffer<Params> params;
 
@@ -91,7 +96,16 @@ void main(uint3 id : SV_DispatchThreadID) {
     shadow[i] = MSM_LOOKUP(msm_lookup_msm64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
 #elif MSM_FORMAT == 2
     shadow[i] = MSM_LOOKUP(msm_lookup_nlq64) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
-#else
+#elif MSM_FORMAT == 3
     shadow[i] = MSM_LOOKUP(msm_lookup_nlq32) params.width, params.height, r.u, r.v, zf, params.lookup, noise);
+#else
+    msm_warp_shading warp = msm_warp_shading_make(params.representation, params.warp_positive, params.warp_negative,
+                                                  params.min_variance, params.light_bleed_reduction);
+    if (params.lookup == 3) {
+        float2 uv = float2(r.u / float(params.width), r.v / float(params.height));
+        shadow[i] = msm_shadow_warped(msm_decode_moments128(shadow_map.SampleLevel(map_sampler, MSM_FILTERED_UV(uv), 0)), zf, warp);
+        return;
+    }
+    shadow[i] = MSM_LOOKUP(msm_lookup_warped) params.width, params.height, r.u, r.v, zf, params.lookup, noise, warp);
 #endif
 }
