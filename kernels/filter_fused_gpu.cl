@@ -8,7 +8,7 @@
 // Compile-time: MSM_SAMPLES (1, 2, 4, 8, 16), MSM_FORMAT and the format's row
 // (msm_formats.clh), MSM_DEPTH_ZERO_ONE (1 for depth in [0,1]),
 // MSM_LAYERS (translucent layers, 0 = opaque; two more arguments when > 0), MSM_ARRAY
-// (1: texture arrays, group z = array layer, msm_array.clh).
+// (1: texture arrays, group z = array layer, msm_array.clh), FUSED_WORK_ITEMS (below).
 // Taps: w0 (centre) .. w4, as gaussian_taps() gives them; sums run over i = -4..4 with fma
 // so that kernels/filter_three_pass.cl reproduces them bit for bit.
 #include "msm_formats.clh"
@@ -21,6 +21,18 @@
 #ifndef MSM_LAYERS
 #define MSM_LAYERS 0
 #endif
+
+// Work-items of the launched group: FUSED_GROUP_SIZE (the paper's 256), or 128, 64 or 32
+// for a device whose built kernel allows fewer (docs/devices.md). Each work-item then plays
+// FUSED_ROLES of the layout's 256 roles in turn, role r as layout id local_id + r *
+// FUSED_WORK_ITEMS: every texel sees the same operations in the same order (the same
+// bits), and a sub-group of 32 roles stays within one role round.
+#ifndef FUSED_WORK_ITEMS
+#define FUSED_WORK_ITEMS FUSED_GROUP_SIZE
+#endif
+#define FUSED_ROLES (FUSED_GROUP_SIZE / FUSED_WORK_ITEMS)
+#define FOR_EACH_ROLE(id) \
+    for (uint role = 0, id = local_id; role < FUSED_ROLES; ++role, id += FUSED_WORK_ITEMS)
 
 #if MSM_FORMAT_SHIFTED
 // nlq formats: blur the moments of (z - c), c = the midrange of the depths of the block's
@@ -37,7 +49,7 @@
     fma(w0, v[(k) + 4], fma(w1, v[(k) + 3], fma(w2, v[(k) + 2], fma(w3, v[(k) + 1],           \
     w4 * v[(k)]))))))))
 
-__kernel __attribute__((reqd_work_group_size(FUSED_GROUP_SIZE, 1, 1)))
+__kernel __attribute__((reqd_work_group_size(FUSED_WORK_ITEMS, 1, 1)))
 void filter_fused_gpu(__global const float* depth, int width, int height, __global uint* texture,
                       float w0, float w1, float w2, float w3, float w4
 #if MSM_LAYERS
@@ -55,7 +67,7 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
     MSM_ARRAY_SLICE(layer_depth, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
     MSM_ARRAY_SLICE(layer_opacity, (size_t)width * height * MSM_SAMPLES * MSM_LAYERS);
 #endif
-    const uint id = (uint)get_local_id(0);
+    const uint local_id = (uint)get_local_id(0);
     const int out_x0 = (int)get_group_id(0) * FUSED_OUT_W;
     const int out_y0 = (int)get_group_id(1) * FUSED_OUT_H;
 
@@ -68,23 +80,26 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
     // double: 269 receivers off by > 3% with it, 0 without). min and max are exact in any
     // order: c does not depend on the reduction's schedule. Empty sets are (1, -1), neutral
     // for min and max.
-    // Step 1: min and max over this work-item's 5 resolve texels, into the moment planes.
-    float lowest = 1.0f, highest = -1.0f;
-    for (uint round = 0; round < FUSED_RESOLVE_ROUNDS; ++round) {
-        const int gx = clamp(out_x0 - FUSED_GUARD + (int)fused_resolve_x(id, round), 0, width - 1);
-        const int gy = clamp(out_y0 - FUSED_GUARD + (int)fused_resolve_y(id), 0, height - 1);
-        const float z = msm_internal_depth(depth[((size_t)gy * width + gx) * MSM_SAMPLES], MSM_DEPTH_ZERO_ONE);
-        if (z < 1.0f) {
-            lowest = fmin(lowest, z);
-            highest = fmax(highest, z);
+    // Step 1: min and max over each role's 5 resolve texels, into the moment planes.
+    FOR_EACH_ROLE(id) {
+        float lowest = 1.0f, highest = -1.0f;
+        for (uint round = 0; round < FUSED_RESOLVE_ROUNDS; ++round) {
+            const int gx = clamp(out_x0 - FUSED_GUARD + (int)fused_resolve_x(id, round), 0, width - 1);
+            const int gy = clamp(out_y0 - FUSED_GUARD + (int)fused_resolve_y(id), 0, height - 1);
+            const float z = msm_internal_depth(depth[((size_t)gy * width + gx) * MSM_SAMPLES], MSM_DEPTH_ZERO_ONE);
+            if (z < 1.0f) {
+                lowest = fmin(lowest, z);
+                highest = fmax(highest, z);
+            }
         }
+        block[fused_shift_partial_index(0u, id)] = lowest;
+        block[fused_shift_partial_index(1u, id)] = highest;
     }
-    block[fused_shift_partial_index(0u, id)] = lowest;
-    block[fused_shift_partial_index(1u, id)] = highest;
     barrier(CLK_LOCAL_MEM_FENCE);
 
-    // Step 2: sub-group 0 alone, lanes 0..15 reduce the minima, lanes 16..31 the maxima.
-    if (id < FUSED_SUBGROUP) {
+    // Step 2: sub-group 0 alone (round 0), lanes 0..15 reduce the minima, 16..31 the maxima.
+    if (local_id < FUSED_SUBGROUP) {
+        const uint id = local_id;
         const bool is_max = id >= 16u;
         float extreme = block[fused_shift_step2_index(id, 0u)];
         for (uint k = 1; k < FUSED_SHIFT_STEP2_READS; ++k) {
@@ -108,6 +123,7 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
 #endif
 
     // Phase 1, resolve: 5 rounds, one texel each; guard-band texels clamp to the image edge.
+    FOR_EACH_ROLE(id)
     for (uint round = 0; round < FUSED_RESOLVE_ROUNDS; ++round) {
         const uint x = fused_resolve_x(id, round);
         const uint y = fused_resolve_y(id);
@@ -130,7 +146,7 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
 
     // Phase 2, horizontal: one moment and one half per sub-group, one row per work-item;
     // 24 values in registers, 16 outputs written where no other work-item reads.
-    {
+    FOR_EACH_ROLE(id) {
         const uint j = fused_blur_moment(id);
         const uint y = fused_row_y(id);
         const uint read_x = fused_row_read_x(id);
@@ -145,8 +161,9 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
     barrier(CLK_LOCAL_MEM_FENCE);
 
     // Phase 3, vertical: the sub-group's 16x32 strip, upper and lower halves; 20 values in
-    // registers, barrier (the halves overlap in rows 12..19), 12 outputs in place.
-    {
+    // registers, barrier (the halves overlap in rows 12..19), 12 outputs in place. Roles of
+    // different rounds work on different strips: one barrier per round suffices.
+    FOR_EACH_ROLE(id) {
         const uint j = fused_blur_moment(id);
         const uint x = fused_column_x(id);
         const uint read_y = fused_column_read_y(id);
@@ -163,6 +180,7 @@ void filter_fused_gpu(__global const float* depth, int width, int height, __glob
 
     // Phase 4, readout: 3 texels per work-item, one output row per sub-group at a time;
     // quantize and write each texel once.
+    FOR_EACH_ROLE(id)
     for (uint round = 0; round < FUSED_READOUT_ROUNDS; ++round) {
         const uint ox = fused_readout_ox(id);
         const uint oy = fused_readout_oy(id, round);

@@ -12,6 +12,8 @@ packages=(
   glslang-tools
   oclgrind
   mesa-vulkan-drivers libvulkan-dev spirv-tools
+  # Mesa's rusticl (RUSTICL_ENABLE=llvmpipe): the second OpenCL implementation of the ctest label `rusticl`.
+  mesa-opencl-icd
   strace
   # The man page msmcl(1), generated from the CLI's --help at build time.
   help2man man-db

@@ -528,4 +528,19 @@ TEST_F(Filter, HostLocalMemoryFigureIsTheKernels) {
     EXPECT_GT(checked, 0u);
 }
 
+// The paper's kernel in smaller groups (MSMCL_FUSED_WORK_ITEMS: each work-item plays 2, 4 or
+// 8 of the 256 roles, what a device allowing fewer work-items gets) gives the same texels.
+TEST_F(Filter, SmallerFusedGroupsGiveTheSameTexture) {
+    const DepthImage depth = make_depth(75, 53, 4, DepthRange::zero_one, test_seed() + 37);
+    for (Format format : msmcl::detail::moment_formats()) {
+        const Texture standard = run(depth, format, 2.4f, DepthRange::zero_one, FilterKernel::fused_paper);
+        for (const char* work_items : {"128", "64", "32"}) {
+            setenv("MSMCL_FUSED_WORK_ITEMS", work_items, 1);
+            const Texture smaller = run(depth, format, 2.4f, DepthRange::zero_one, FilterKernel::fused_paper);
+            unsetenv("MSMCL_FUSED_WORK_ITEMS");
+            EXPECT_EQ(smaller.words, standard.words) << msmcl::format_name(format) << ", " << work_items << " work-items";
+        }
+    }
+}
+
 } // namespace

@@ -374,6 +374,17 @@ TEST_P(OclgrindFormat, FusedPaper) {
                          filtering(four_signed, {}, format, FilterKernel::fused_paper, DepthRange::minus_one_one));
 }
 
+// The paper's kernel in its smaller groups (MSMCL_FUSED_WORK_ITEMS: 32 work-items, each
+// playing 8 of the 256 roles, as on llvmpipe): the same texels.
+TEST_F(Oclgrind, FusedPaperInSmallerGroups) {
+    const DepthImage four = depth(4);
+    setenv("MSMCL_FUSED_WORK_ITEMS", "32", 1);
+    for (Format format : {Format::msm64, Format::nlq64})
+        expect_texture("fused_paper, 32 work-items, " + variant(format, 4), format,
+                       filtering(four, {}, format, FilterKernel::fused_paper));
+    unsetenv("MSMCL_FUSED_WORK_ITEMS");
+}
+
 // The CPU distribution with a 16x8 tile, so that a 45-texel row has interior and border
 // tile columns (filter_fused_cpu_interior and _border); a sample count per format.
 TEST_P(OclgrindFormat, FusedCpuInteriorAndBorder) {

@@ -200,6 +200,8 @@ int main(int argc, char** argv) {
         return report(e.what(), exit_bad_input);
     } catch (const msmcl::input_error& e) {
         return report(e.what(), exit_bad_input);
+    } catch (const msmcl::unfit_kernel_error& e) { // an explicit --kernel the device cannot run: a usage choice
+        return report(e.what(), exit_bad_input);
     } catch (const msmcl::error& e) { // opencl_error, build_error, device_error, I/O failures
         return report(e.what(), exit_runtime_failure);
     } catch (const std::bad_alloc&) {

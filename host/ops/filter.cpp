@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstddef>
 #include <optional>
 #include <sstream>
@@ -33,6 +34,10 @@ namespace {
 constexpr std::size_t kFusedGroupSize = FUSED_GROUP_SIZE;
 constexpr int kFusedTileWidth = FUSED_OUT_W;
 constexpr int kFusedTileHeight = FUSED_OUT_H;
+// The fused kernel's smaller groups, tried in this order where the built kernel allows
+// fewer than kFusedGroupSize work-items: each work-item plays 2, 4 or 8 of the 256 roles
+// (FUSED_WORK_ITEMS in kernels/filter_fused_gpu.cl), the same tile and the same bits.
+constexpr std::size_t kFusedSmallerGroups[] = {128, 64, 32};
 // The CPU distribution (kernels/filter_fused_cpu.cl, layout in fused_cpu_layout.clh): one
 // work-item per input column of a tile (width + 8 guard columns), the tile's rows streamed.
 // Tuning parameters, measured on PoCL 3.1 / AVX-512 (bench/): MSMCL_CPU_TILE="WxH"
@@ -44,6 +49,13 @@ struct CpuTiling {
     int width = kCpuTileWidth;
     int height = kCpuTileHeight;
 
+    // The narrower tile of groups of at most `work_items` (none below 8 columns).
+    std::optional<CpuTiling> narrowed_to(std::size_t work_items) const {
+        if (work_items < static_cast<std::size_t>(4 * CPU_GUARD) || group_size() <= work_items) return std::nullopt;
+        return CpuTiling{static_cast<int>(work_items) - 2 * CPU_GUARD, height};
+    }
+
+    // Work-items per group: one per input column (the tile and its guard band).
     std::size_t group_size() const { return static_cast<std::size_t>(CPU_IN_W_OF(width)); }
 };
 
@@ -112,14 +124,18 @@ void validate_device_sizes(const DeviceInfo& device, int width, int height, int 
     if (kernel == FilterKernel::three_pass) check(texels * 4 * sizeof(float), "the three-pass moment buffer");
 }
 
+// Whether the device could run the fused kernel in its smallest group (plan_filter then
+// fits the group to the built kernel).
 bool device_runs_fused(const DeviceInfo& device) {
-    return device.max_work_group_size >= kFusedGroupSize &&
+    return device.max_work_group_size >= kFusedSmallerGroups[std::size(kFusedSmallerGroups) - 1] &&
            device.local_mem_bytes >= most_local_bytes(FilterKernel::fused_paper, CpuTiling{});
 }
 
+// Whether the device could run the CPU kernel in `tiling` or a narrower tile.
 bool device_runs_fused_cpu(const DeviceInfo& device, const CpuTiling& tiling) {
-    return device.max_work_group_size >= tiling.group_size() &&
-           device.local_mem_bytes >= most_local_bytes(FilterKernel::fused_cpu, tiling);
+    const CpuTiling narrowest = tiling.narrowed_to(4 * CPU_GUARD).value_or(tiling);
+    return device.max_work_group_size >= std::min(tiling.group_size(), static_cast<std::size_t>(4 * CPU_GUARD)) &&
+           device.local_mem_bytes >= most_local_bytes(FilterKernel::fused_cpu, narrowest);
 }
 
 std::string device_limits(const DeviceInfo& device) {
@@ -138,14 +154,14 @@ FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
         return device_runs_fused(device) ? FilterKernel::fused_paper : FilterKernel::three_pass;
     }
     if (requested == FilterKernel::fused_paper && !device_runs_fused(device)) {
-        throw device_error("filter: device '" + device.name + "' cannot run the fused kernel (needs " +
+        throw unfit_kernel_error("filter: device '" + device.name + "' cannot run the fused kernel (needs " +
                            std::to_string(kFusedGroupSize) + " work-items per group and " +
                            std::to_string(most_local_bytes(FilterKernel::fused_paper, tiling)) +
                            " bytes of local memory; it has " +
                            device_limits(device) + ")");
     }
     if (requested == FilterKernel::fused_cpu && !device_runs_fused_cpu(device, tiling)) {
-        throw device_error("filter: device '" + device.name + "' cannot run the CPU fused kernel (needs " +
+        throw unfit_kernel_error("filter: device '" + device.name + "' cannot run the CPU fused kernel (needs " +
                            std::to_string(tiling.group_size()) + " work-items per group and " +
                            std::to_string(most_local_bytes(FilterKernel::fused_cpu, tiling)) +
                            " bytes of local memory; it has " +
@@ -180,10 +196,10 @@ void set_tap_arguments(cl::Kernel& kernel, cl_uint first, const std::array<float
 cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& queue,
                             const std::vector<cl::Event>& waits, const cl::Buffer& depth, int width, int height,
                             const cl::Buffer& texture, const FilterOptions& options, int samples,
-                            const std::array<float, 9>& taps, const LayerBuffers& layers, int array_layers) {
-    const CpuTiling tiling = cpu_tiling();
-    const std::vector<std::string> defines =
-        detail::filter_cpu_defines(samples, options.format, options.depth_range, layers.count, array_layers > 1);
+                            const std::array<float, 9>& taps, const LayerBuffers& layers, int array_layers,
+                            const CpuTiling& tiling) {
+    const std::vector<std::string> defines = detail::filter_cpu_defines(
+        samples, options.format, options.depth_range, layers.count, array_layers > 1, tiling.width);
     // Tile grid; tile columns [ix0, ix1) read and write no column outside the image.
     const int tiles_x = (width + tiling.width - 1) / tiling.width;
     const int tiles_y = (height + tiling.height - 1) / tiling.height;
@@ -195,12 +211,6 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
 
     const auto prepare = [&](const char* name) -> cl::Kernel& {
         cl::Kernel& kernel = impl.kernel("filter_fused_cpu.cl", defines, name);
-        const std::size_t kernel_limit = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device);
-        if (kernel_limit < group) {
-            throw device_error("filter: device '" + impl.info.name + "' runs " + name + " with at most " +
-                               std::to_string(kernel_limit) + " work-items per group, it needs " +
-                               std::to_string(group));
-        }
         detail::set_arg(kernel, 0, depth);
         detail::set_arg(kernel, 1, width);
         detail::set_arg(kernel, 2, height);
@@ -239,26 +249,106 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
     return last;
 }
 
+// The defines of filter_fused_gpu.cl for groups of `work_items` (the paper's 256 keep the
+// plain program).
+std::vector<std::string> fused_defines(int samples, const FilterOptions& options, int layers, int array_layers,
+                                       std::size_t work_items) {
+    std::vector<std::string> defines = kernel_defines(samples, options, layers, array_layers);
+    if (work_items != kFusedGroupSize) defines.push_back("FUSED_WORK_ITEMS=" + std::to_string(work_items));
+    return defines;
+}
+
+// The distribution a call runs with, fitted to what the built kernels allow.
+struct FilterPlan {
+    FilterKernel kernel = FilterKernel::three_pass;
+    std::size_t fused_work_items = kFusedGroupSize; // fused_paper
+    CpuTiling tiling;                               // fused_cpu
+};
+
+// automatic: the device's preferred distribution (choose_kernel), then its variants with
+// smaller groups, then three_pass; an explicit fused_paper or fused_cpu takes the first of
+// its own variants that fits, else throws unfit_kernel_error with the built kernel's
+// limits. Each candidate is built and asked for CL_KERNEL_WORK_GROUP_SIZE and its local
+// memory (docs/devices.md); the choice and its reason go to Context::kernel_choices.
+FilterPlan plan_filter(detail::ContextImpl& impl, FilterKernel requested, int samples, const FilterOptions& options,
+                       int layers, int array_layers) {
+    const FilterKernel preferred = choose_kernel(impl.info, requested);
+    std::string reasons; // why the candidates before the chosen one were passed over
+    FilterPlan plan;
+    if (preferred == FilterKernel::fused_paper) {
+        const std::optional<int> start = detail::fused_work_items_override();
+        std::size_t work_items = start ? static_cast<std::size_t>(*start) : kFusedGroupSize;
+        for (std::size_t next = 0;; ++next) {
+            const detail::KernelFit fit = detail::kernel_fit(
+                impl, impl.kernel("filter_fused_gpu.cl", fused_defines(samples, options, layers, array_layers, work_items),
+                                  "filter_fused_gpu"));
+            if (fit.runs(work_items)) {
+                plan.kernel = FilterKernel::fused_paper;
+                plan.fused_work_items = work_items;
+                impl.note_choice("filter", "fused_paper, " + std::to_string(work_items) + " work-items per 40x32 tile" +
+                                               (reasons.empty() ? "" : " (" + reasons + ")"));
+                return plan;
+            }
+            reasons += std::string(reasons.empty() ? "" : "; ") + "fused_paper with " + std::to_string(work_items) +
+                       " work-items: the built kernel allows " + fit.limits();
+            // The next smaller group that the limit allows.
+            while (next < std::size(kFusedSmallerGroups) && kFusedSmallerGroups[next] > fit.work_items) ++next;
+            if (next >= std::size(kFusedSmallerGroups)) break;
+            work_items = kFusedSmallerGroups[next];
+        }
+    } else if (preferred == FilterKernel::fused_cpu) {
+        std::optional<CpuTiling> tiling = cpu_tiling();
+        while (tiling) {
+            const detail::KernelFit fit = detail::kernel_fit(
+                impl, impl.kernel("filter_fused_cpu.cl",
+                                  detail::filter_cpu_defines(samples, options.format, options.depth_range, layers,
+                                                             array_layers > 1, tiling->width),
+                                  "filter_fused_cpu_border"));
+            const unsigned long long local_bytes =
+                detail::filter_local_bytes(FilterKernel::fused_cpu, options.format, tiling->width);
+            if (fit.runs(tiling->group_size()) && local_bytes <= fit.device_local_bytes) {
+                plan.kernel = FilterKernel::fused_cpu;
+                plan.tiling = *tiling;
+                impl.note_choice("filter", "fused_cpu, tile " + std::to_string(tiling->width) + "x" +
+                                               std::to_string(tiling->height) + " (" +
+                                               std::to_string(tiling->group_size()) + " work-items)" +
+                                               (reasons.empty() ? "" : " (" + reasons + ")"));
+                return plan;
+            }
+            reasons += std::string(reasons.empty() ? "" : "; ") + "fused_cpu with " +
+                       std::to_string(tiling->group_size()) + " work-items: the built kernel allows " + fit.limits();
+            tiling = tiling->narrowed_to(fit.work_items);
+        }
+    } else {
+        impl.note_choice("filter", std::string("three_pass") + (requested == FilterKernel::three_pass
+                                                                    ? " (requested)"
+                                                                    : " (the device's limits rule out the fused kernels)"));
+        return plan;
+    }
+    if (requested != FilterKernel::automatic) {
+        throw unfit_kernel_error("filter: device '" + impl.info.name + "' cannot run --kernel " +
+                                 filter_kernel_name(requested) + ": " + reasons);
+    }
+    impl.note_choice("filter", "three_pass (" + reasons + ")");
+    return plan;
+}
+
 // Enqueues the whole filter on `queue`; returns the event of its last command.
 cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queue, const std::vector<cl::Event>& waits,
                          const cl::Buffer& depth, int width, int height, int samples, const cl::Buffer& texture,
                          const FilterOptions& options, const LayerBuffers& layers, int array_layers) {
     const std::array<float, 9> taps = gaussian_taps(options.sigma);
-    const FilterKernel kernel_choice = choose_kernel(impl.info, options.kernel);
+    const FilterPlan plan = plan_filter(impl, options.kernel, samples, options, layers.count, array_layers);
+    const FilterKernel kernel_choice = plan.kernel;
     validate_device_sizes(impl.info, width, height, samples, options.format, kernel_choice, layers.count, array_layers);
     const std::vector<std::string> defines = kernel_defines(samples, options, layers.count, array_layers);
     const cl::NDRange image = layered(static_cast<std::size_t>(width), static_cast<std::size_t>(height), array_layers);
     cl::Event last;
 
     if (kernel_choice == FilterKernel::fused_paper) {
-        cl::Kernel& fused = impl.kernel("filter_fused_gpu.cl", defines, "filter_fused_gpu");
-        // The built kernel may still need fewer work-items than the device maximum.
-        const std::size_t kernel_limit = fused.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device);
-        if (kernel_limit < kFusedGroupSize) {
-            throw device_error("filter: device '" + impl.info.name + "' runs the fused kernel with at most " +
-                               std::to_string(kernel_limit) + " work-items per group, it needs " +
-                               std::to_string(kFusedGroupSize));
-        }
+        cl::Kernel& fused = impl.kernel("filter_fused_gpu.cl", fused_defines(samples, options, layers.count, array_layers,
+                                                                             plan.fused_work_items),
+                                        "filter_fused_gpu");
         detail::check(fused.setArg(0, depth), "clSetKernelArg");
         detail::check(fused.setArg(1, width), "clSetKernelArg");
         detail::check(fused.setArg(2, height), "clSetKernelArg");
@@ -268,19 +358,19 @@ cl::Event enqueue_filter(detail::ContextImpl& impl, const cl::CommandQueue& queu
             detail::check(fused.setArg(9, layers.depth), "clSetKernelArg");
             detail::check(fused.setArg(10, layers.opacity), "clSetKernelArg");
         }
-        // One work-group of 256 per 32x24 output tile.
+        // One work-group of 256 (or its smaller variant) per 32x24 output tile.
         const std::size_t groups_x = (static_cast<std::size_t>(width) + kFusedTileWidth - 1) / kFusedTileWidth;
         const std::size_t groups_y = (static_cast<std::size_t>(height) + kFusedTileHeight - 1) / kFusedTileHeight;
         detail::check(queue.enqueueNDRangeKernel(fused, cl::NullRange,
-                                                 layered(groups_x * kFusedGroupSize, groups_y, array_layers),
-                                                 group_of(kFusedGroupSize, array_layers), &waits, &last),
+                                                 layered(groups_x * plan.fused_work_items, groups_y, array_layers),
+                                                 group_of(plan.fused_work_items, array_layers), &waits, &last),
                       "clEnqueueNDRangeKernel(filter_fused_gpu)");
         return last;
     }
 
     if (kernel_choice == FilterKernel::fused_cpu)
         return enqueue_fused_cpu(impl, queue, waits, depth, width, height, texture, options, samples, taps, layers,
-                                 array_layers);
+                                 array_layers, plan.tiling);
 
     // Three passes through two float4 moment buffers (one map's worth per array layer).
     cl_int status = CL_SUCCESS;
@@ -379,8 +469,10 @@ std::vector<std::string> filter_defines(int samples, Format format, DepthRange r
 }
 
 // The CPU kernel adds its tile.
-std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers, bool array) {
-    const CpuTiling tiling = cpu_tiling();
+std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers, bool array,
+                                            int tile_width) {
+    CpuTiling tiling = cpu_tiling();
+    if (tile_width > 0) tiling.width = tile_width;
     std::vector<std::string> defines = filter_defines(samples, format, range, layers, array);
     defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
     defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));
@@ -466,7 +558,7 @@ Texture filter(Context& context, const DepthImage& depth, const std::vector<Tran
         detail::result_buffer(impl, texture.words.data(), texture_bytes, "clCreateBuffer(texture)");
     const cl::Event done = enqueue_filter(impl, impl.queue, {}, depth_buffer, depth.width, depth.height, depth.samples,
                                           texture_buffer, options, layer_buffers, depth.layers);
-    stages.computed();
+    stages.computed("filter");
     detail::read_result(impl, texture_buffer, texture_bytes, texture.words.data(), done, "clEnqueueReadBuffer(texture)");
     stages.downloaded(texture_buffer, texture_bytes);
     return texture;

@@ -193,7 +193,8 @@ DeviceDepth stage_depth_image(detail::ContextImpl& impl, const cl::CommandQueue&
     detail::set_arg(interleave, 1, static_cast<cl_uint>(texels));
     detail::set_arg(interleave, 2, static_cast<cl_uint>(samples));
     detail::set_arg(interleave, 3, buffer);
-    const std::size_t group = 64;
+    // Groups of 64, or fewer where the built kernel allows fewer (docs/devices.md).
+    const std::size_t group = detail::fitting_group(detail::kernel_fit(impl, interleave), 64);
     // One row of work-items per map.
     detail::check(queue.enqueueNDRangeKernel(interleave, cl::NullRange,
                                              cl::NDRange((texels + group - 1) / group * group, maps),

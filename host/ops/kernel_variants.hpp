@@ -28,9 +28,10 @@ std::vector<std::string> filter_defines(int samples, Format format, DepthRange r
 unsigned long long filter_local_bytes(FilterKernel kernel, Format format, int cpu_tile_width);
 /// The CPU tile width in effect (MSMCL_CPU_TILE).
 int filter_cpu_tile_width();
-/// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE).
+/// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE), or tiles
+/// `tile_width` wide (the narrower tile of a device with smaller groups).
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers,
-                                            bool array = false);
+                                            bool array = false, int tile_width = 0);
 
 // --- sat (host/ops/sat.cpp)
 /// The distribution `requested` resolves to on `device`.

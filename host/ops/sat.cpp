@@ -594,7 +594,8 @@ void sat_query_moments(Context& context, const DeviceSat& table, cl_mem rectangl
     detail::set_arg(kernel, 5, rectangles);
     detail::set_arg(kernel, 6, static_cast<cl_uint>(count));
     detail::set_arg(kernel, 7, moments);
-    const std::size_t group = 64;
+    // Groups of 64, or fewer where the built kernel allows fewer (docs/devices.md).
+    const std::size_t group = detail::fitting_group(detail::kernel_fit(impl, kernel), 64);
     launch(queue, kernel, cl::NDRange((count + group - 1) / group * group), cl::NDRange(group), waits, done,
            "clEnqueueNDRangeKernel(sat_query_moments)");
     detail::complete(enqueue, queue, done);

@@ -355,7 +355,18 @@ void run_prefilter(Context& context, const ScatterScene& scene, cl_mem source, b
     const RectificationBounds bounds = rectification_bounds(scene);
     const msm_scatter_params params =
         detail::make_scatter_params(scene, bounds, map_width, map_height, map_samples, -1.0f);
-    cl::Kernel& kernel = scatter_kernel(impl, moments, "scatter_prefilter", distribution);
+    // The row tiling of the device, with groups halved until the built kernel allows them
+    // (llvmpipe: 32); the scan's grouping, and so the low bits of the sums, follow the group.
+    DeviceInfo limits = impl.info;
+    cl::Kernel* built = &scatter_kernel(impl, moments, "scatter_prefilter", distribution);
+    for (detail::KernelFit fit = detail::kernel_fit(impl, *built);
+         !fit.runs(static_cast<std::size_t>(row_tiling(limits, distribution).group));
+         fit = detail::kernel_fit(impl, *built)) {
+        limits.max_work_group_size = detail::fitting_group(fit, static_cast<std::size_t>(row_tiling(limits, distribution).group));
+        built = &impl.kernel("scatter.cl", detail::scatter_defines(moments, limits, distribution), "scatter_prefilter");
+    }
+    cl::Kernel& kernel = *built;
+    impl.note_choice("scatter prefilter", std::to_string(row_tiling(limits, distribution).group) + " work-items per row");
     cl::CommandQueue queue = impl.queue_for(enqueue);
     std::vector<cl::Event> waits = detail::wait_list(enqueue);
     // The weights of the prefix sums per column, in double: w_i = exp(-s D i) and
@@ -379,7 +390,7 @@ void run_prefilter(Context& context, const ScatterScene& scene, cl_mem source, b
     detail::set_arg(kernel, 4, weight_buffer());
     detail::set_arg(kernel, 5, quantized);
     detail::set_arg(kernel, 6, floats);
-    const std::size_t group = static_cast<std::size_t>(row_tiling(impl.info, distribution).group);
+    const std::size_t group = static_cast<std::size_t>(row_tiling(limits, distribution).group);
     cl::Event done;
     detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(group * scene.rectified_height),
                                              cl::NDRange(group), waits.empty() ? nullptr : &waits, &done),
@@ -399,7 +410,10 @@ void enqueue_over_pixels(detail::ContextImpl& impl, cl::Kernel& kernel, const Sc
     cl::CommandQueue queue = impl.queue_for(enqueue);
     std::vector<cl::Event> waits = detail::wait_list(enqueue);
     cl::Event done;
-    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, pixel_range(scene), cl::NDRange(16, 4),
+    // 16x4, or 16 columns of fewer rows where the built kernel allows fewer work-items.
+    const std::size_t group = detail::fitting_group(detail::kernel_fit(impl, kernel), 64);
+    const cl::NDRange shape(std::min<std::size_t>(group, 16), std::max<std::size_t>(group / 16, 1));
+    detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, pixel_range(scene), shape,
                                              waits.empty() ? nullptr : &waits, &done),
                   what);
     detail::complete(enqueue, queue, done);

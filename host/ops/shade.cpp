@@ -114,8 +114,9 @@ void shade(Context& context, const DeviceTexture& map, cl_mem receivers_uvz, cl_
         detail::set_arg(kernel, 10, receiver_pixels);
         detail::set_arg(kernel, 11, screen_width);
     }
-    // One work-item per receiver; groups of 64 (a multiple of every warp/wavefront width).
-    const std::size_t group = 64;
+    // One work-item per receiver; groups of 64 (a multiple of every warp/wavefront width), or
+    // fewer where the built kernel allows fewer (docs/devices.md).
+    const std::size_t group = detail::fitting_group(detail::kernel_fit(impl, kernel), 64);
     const std::size_t global = (count + group - 1) / group * group;
     detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(group),
                                              waits.empty() ? nullptr : &waits, &done),

@@ -124,8 +124,9 @@ void soft_shade(Context& context, const DeviceSat& table, cl_mem receivers_uvz, 
     detail::set_arg(kernel, 11, static_cast<cl_uint>(count));
     detail::set_arg(kernel, 12, options.depth_bias);
     detail::set_arg(kernel, 13, intensity);
-    // One work-item per receiver; groups of 64.
-    const std::size_t group = 64;
+    // One work-item per receiver; groups of 64 (a multiple of every warp/wavefront width), or
+    // fewer where the built kernel allows fewer (docs/devices.md).
+    const std::size_t group = detail::fitting_group(detail::kernel_fit(impl, kernel), 64);
     detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((count + group - 1) / group * group),
                                              cl::NDRange(group), waits.empty() ? nullptr : &waits, &done),
                   "clEnqueueNDRangeKernel(sat_soft_shade)");

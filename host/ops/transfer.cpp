@@ -41,7 +41,7 @@ void StageTimer::uploaded(std::initializer_list<const cl::Buffer*> inputs) {
     report("upload", ms, std::to_string(bytes) + " bytes" + (kept > 0 ? ", " + std::to_string(kept) + " in place" : ""));
 }
 
-void StageTimer::computed() {
+void StageTimer::computed(const char* operation) {
     if (!observer_) return;
     check(impl_.queue.finish(), "clFinish");
     const double total = elapsed_ms();
@@ -50,7 +50,8 @@ void StageTimer::computed() {
     observer_(StageTime{"program", build,
                         built == 0 ? std::string("cache hit")
                                    : std::to_string(built) + (built == 1 ? " program built" : " programs built")});
-    report("kernel", std::max(0.0, total - build), "");
+    // The work distribution the operation's kernels were fitted to (docs/devices.md).
+    report("kernel", std::max(0.0, total - build), operation ? impl_.kernel_choice(operation) : std::string());
 }
 
 void StageTimer::downloaded(const cl::Buffer& result, std::size_t bytes) {

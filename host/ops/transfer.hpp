@@ -54,8 +54,9 @@ public:
     /// Ends the upload of `inputs` (the note counts their bytes and those used in place).
     void uploaded(std::initializer_list<const cl::Buffer*> inputs);
     /// Ends the computation once the queue is idle: "program" (the Context's time building
-    /// or loading programs since the upload) and "kernel" (the rest).
-    void computed();
+    /// or loading programs since the upload) and "kernel" (the rest), noting the work
+    /// distribution recorded for `operation` ("filter"), if any.
+    void computed(const char* operation = nullptr);
     /// Ends the read of `bytes` bytes of `result` (in place where the device shares host memory).
     void downloaded(const cl::Buffer& result, std::size_t bytes);
 

@@ -4,6 +4,7 @@
 #include "runtime/kernel_sources.hpp"
 #include "runtime/quirks.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 
 namespace msmcl {
@@ -166,5 +167,50 @@ void Context::finish() { detail::check(impl_->queue.finish(), "clFinish"); }
 void Context::set_binary_cache_dir(const std::string& directory) { impl_->programs.set_disk_directory(directory); }
 void Context::set_extra_build_options(const std::string& options) { impl_->set_extra_build_options(options); }
 std::size_t Context::programs_built() const { return impl_->programs.programs_built(); }
+std::vector<std::string> Context::kernel_choices() const { return impl_->kernel_choices(); }
+
+namespace detail {
+
+void ContextImpl::note_choice(const std::string& operation, const std::string& choice) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (std::pair<std::string, std::string>& entry : choices_) {
+        if (entry.first == operation) {
+            entry.second = choice;
+            return;
+        }
+    }
+    choices_.emplace_back(operation, choice);
+}
+
+std::vector<std::string> ContextImpl::kernel_choices() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::string> lines;
+    for (const std::pair<std::string, std::string>& entry : choices_) lines.push_back(entry.first + ": " + entry.second);
+    return lines;
+}
+
+std::string ContextImpl::kernel_choice(const std::string& operation) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (const std::pair<std::string, std::string>& entry : choices_)
+        if (entry.first == operation) return entry.second;
+    return {};
+}
+
+KernelFit kernel_fit(const ContextImpl& impl, const cl::Kernel& kernel) {
+    KernelFit fit;
+    fit.work_items = std::min(impl.info.max_work_group_size,
+                              kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(impl.device));
+    fit.local_bytes = kernel.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(impl.device);
+    fit.device_local_bytes = impl.info.local_mem_bytes;
+    return fit;
+}
+
+std::size_t fitting_group(const KernelFit& fit, std::size_t preferred) {
+    std::size_t group = preferred;
+    while (group > 1 && group > fit.work_items) group /= 2;
+    return group;
+}
+
+} // namespace detail
 
 } // namespace msmcl

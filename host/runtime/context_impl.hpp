@@ -35,6 +35,13 @@ struct ContextImpl {
 
     void set_extra_build_options(const std::string& options);
 
+    /// Records the work distribution `operation` ("filter") runs with and why, for
+    /// Context::kernel_choices (the CLI's --verbose).
+    void note_choice(const std::string& operation, const std::string& choice);
+    std::vector<std::string> kernel_choices() const;
+    /// The choice recorded for `operation`; empty if none.
+    std::string kernel_choice(const std::string& operation) const;
+
     /// The queue a call should use: the Enqueue's own, else the Context's.
     cl::CommandQueue queue_for(const Enqueue& enqueue) const;
 
@@ -74,11 +81,35 @@ struct ContextImpl {
     };
     void release_abandoned_scratch();
 
-    std::mutex mutex_; ///< guards extra_build_options_ and scratch_
+    mutable std::mutex mutex_; ///< guards extra_build_options_, scratch_ and choices_
     std::condition_variable scratch_released_;
     std::string extra_build_options_;
     std::map<std::string, Scratch> scratch_;
+    std::vector<std::pair<std::string, std::string>> choices_;
 };
+
+/// What a built kernel allows on its device: CL_KERNEL_WORK_GROUP_SIZE (never above the
+/// device's maximum; GPU drivers lower it for kernels heavy in registers, Mesa's llvmpipe
+/// reports 32 for every kernel) and the local memory it takes (CL_KERNEL_LOCAL_MEM_SIZE)
+/// against the device's. Only the work-items decide whether a group runs: llvmpipe reports
+/// twice the local memory a kernel declares (41184 bytes for the fused kernel's 20720), so
+/// the operations check their declared local memory against the device's themselves.
+struct KernelFit {
+    std::size_t work_items = 0;
+    unsigned long long local_bytes = 0;
+    unsigned long long device_local_bytes = 0;
+
+    bool runs(std::size_t group) const { return group <= work_items; }
+    /// "at most 32 work-items per group, 20720 of 32768 bytes of local memory"
+    std::string limits() const {
+        return "at most " + std::to_string(work_items) + " work-items per group, " + std::to_string(local_bytes) +
+               " of " + std::to_string(device_local_bytes) + " bytes of local memory";
+    }
+};
+KernelFit kernel_fit(const ContextImpl& impl, const cl::Kernel& kernel);
+/// The largest power-of-two fraction of `preferred` (a power of two) that `fit` allows: the
+/// group of kernels whose work-items are independent (shade, soft, queries).
+std::size_t fitting_group(const KernelFit& fit, std::size_t preferred);
 
 /// Wait list of an Enqueue as the bindings want it (retains the events).
 std::vector<cl::Event> wait_list(const Enqueue& enqueue);

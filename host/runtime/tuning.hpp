@@ -18,4 +18,9 @@ struct TileSize {
 /// default tiling then applies).
 std::optional<TileSize> cpu_filter_tile_override(int min_width);
 
+/// MSMCL_FUSED_WORK_ITEMS=128, 64 or 32: the fused GPU filter starts with groups of that
+/// many work-items instead of 256 (kernels/filter_fused_gpu.cl, FUSED_WORK_ITEMS), as a
+/// device that allows fewer would run it. std::nullopt when unset or another value.
+std::optional<int> fused_work_items_override();
+
 } // namespace msmcl::detail

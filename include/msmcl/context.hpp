@@ -128,6 +128,11 @@ public:
     /// Number of programs built (not found in a cache) since the Context was made.
     std::size_t programs_built() const;
 
+    /// The work distribution each operation last ran with on this Context and why, one
+    /// line per operation ("filter: fused_cpu, tile 24x64 (32 work-items): ..."), in the
+    /// order the operations first ran (docs/devices.md, automatic choice).
+    std::vector<std::string> kernel_choices() const;
+
     detail::ContextImpl& impl() { return *impl_; }
 
 private:

@@ -47,6 +47,15 @@ public:
     using error::error;
 };
 
+/// An explicitly requested work distribution (FilterKernel, SatKernel, ScatterKernel) that
+/// the device's built kernels cannot run: too many work-items per group or too much local
+/// memory; the message names the limit. A usage choice (the CLI exits 2), where `automatic`
+/// would have picked a distribution that fits.
+class unfit_kernel_error : public device_error {
+public:
+    using device_error::device_error;
+};
+
 /// Readable name of an OpenCL error code ("CL_INVALID_VALUE"), "CL_UNKNOWN_ERROR" if unknown.
 const char* opencl_error_name(int code) noexcept;
 

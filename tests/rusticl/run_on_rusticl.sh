@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Runs one test program with Mesa's rusticl on llvmpipe as the selected device (ctest label
+# `rusticl`, docs/devices.md): RUSTICL_ENABLE=llvmpipe, MSMCL_DEVICE=llvmpipe, strict
+# selection. Usage: run_on_rusticl.sh MSMCL_CLI TEST_PROGRAM [ARGS...]
+# No rusticl device: skipped (exit 77), or a failure when MSMCL_REQUIRE_RUSTICL=1 (CI).
+# A driver warning on stderr ("MESA: warning") fails the run; the one known warning of the
+# nlq kernels (load_kernel_arg in control flow, docs/devices.md) is let through and counted.
+set -u
+export RUSTICL_ENABLE=llvmpipe MSMCL_DEVICE=llvmpipe MSMCL_STRICT=1
+# llvmpipe runs every kernel in groups of at most 32 work-items: the CPU filter narrows its
+# tile to 24 columns. The filter tests' references shift the nlq moments per tile, so they
+# are told that tile (the tiling MSMCL_CPU_TILE names is the one both sides use).
+export MSMCL_CPU_TILE=${MSMCL_CPU_TILE:-24x64}
+cli=$1
+shift
+if ! "$cli" devices 2>/dev/null | grep -q "platform rusticl"; then
+    if [ "${MSMCL_REQUIRE_RUSTICL:-0}" = 1 ]; then
+        echo "no rusticl device (RUSTICL_ENABLE=llvmpipe; install mesa-opencl-icd) and MSMCL_REQUIRE_RUSTICL=1"
+        exit 1
+    fi
+    echo "no rusticl device: skipped"
+    exit 77
+fi
+errors=$(mktemp)
+trap 'rm -f "$errors"' EXIT
+"$@" 2>"$errors"
+status=$?
+cat "$errors" >&2
+known=$(grep -c "MESA: warning: Treating load_kernel_arg in control flow as uniform" "$errors")
+if grep "MESA: warning" "$errors" | grep -qv "load_kernel_arg in control flow"; then
+    echo "driver warnings on stderr (above)"
+    exit 1
+fi
+[ "$known" -gt 0 ] && echo "known driver warning (load_kernel_arg in control flow) printed $known times"
+exit $status
