@@ -8,6 +8,7 @@
 #include "filter_fixtures.hpp"
 #include "ops/kernel_variants.hpp"
 #include "runtime/context_impl.hpp"
+#include "runtime/texture_kinds.hpp"
 
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
