@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Offline GPU compile report of every msmcl kernel variant, and its budgets.
 
-msmcl-kernel-variants (bench/kernel_variants.cpp) writes each program variant exactly as
+msmcl-kernel-variants (tests/gpu_compile/kernel_variants.cpp) writes each program variant exactly as
 the library assembles it; this script compiles every one for
   AMD    gfx906, gfx90a, gfx1030, gfx1100  clang-15 + libclc-15 (amdgcn--amdhsa.bc)
   Intel  tgllp, acm-g10                    ocloc (intel-opencl-icd, unpacked by
@@ -14,7 +14,7 @@ and prints per kernel registers, spills, local memory, private/stack bytes, SIMD
 table and JSON. --check asserts the budgets (exit 1 on a breach); a missing toolchain exits
 77 (ctest: skipped) unless MSMCL_REQUIRE_GPU_TOOLCHAINS=1, which makes it a failure.
 
-usage: gpu_compile_report.py --variants-tool build/bench/msmcl-kernel-variants
+usage: gpu_compile_report.py --variants-tool build/tests/gpu_compile/msmcl-kernel-variants
            [--json out.json] [--markdown out.md] [--check] [--full] [--jobs N]
 """
 import argparse

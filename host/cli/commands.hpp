@@ -1,9 +1,16 @@
-// The msmcl subcommands: each parses nothing itself, reads its inputs through msmcl::io,
-// calls the public API and writes its output through msmcl::io.
+// What every msmcl subcommand shares, and the one way each joins the application: the file
+// of a subcommand (host/cli/<name>_command.cpp) defines `Subcommand add_<name>_command(CLI::App&)`,
+// which adds the subcommand with its options and says how to run it; main.cpp calls them in
+// the order of the help and runs the one that was parsed. A subcommand parses nothing itself,
+// reads its inputs through msmcl::io, calls the public API and writes its output through msmcl::io.
 #pragma once
 
 #include <msmcl/context.hpp>
+#include <msmcl/errors.hpp>
 
+#include <CLI/CLI.hpp>
+
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -15,30 +22,6 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-/// The options of `msmcl filter` (its files: BatchArguments, host/cli/batch.hpp).
-struct FilterArguments {
-    std::string format; ///< required (on the command line, or per file in a manifest)
-    std::string sigma = "2.4";
-    std::string depth_range = "0,1";
-    std::string out_container; ///< exr, ktx2 or dds; empty: from the output's extension (.ktx2, .dds, else exr)
-    std::string kernel = "automatic"; ///< automatic, fused_paper, fused_cpu or three_pass
-    std::string exponents; ///< EVSM: "C+" or "C+,C-"; empty: the format's defaults
-    std::string exponent;  ///< ESM: "C"; empty: the default
-};
-
-struct ShadeArguments {
-    std::string map;
-    std::string receivers;
-    std::string output;
-    std::string lookup;      ///< empty: the format's (the format table, shade_defaults)
-    std::string depth_bias;  ///< empty: the format's
-    std::string depth_range; ///< empty: the map's msmcl:depthRange
-    std::string frame = "0"; ///< dither: the frame number (blue-noise texture and shift)
-    std::string format;      ///< empty: the map's; required for DDS maps of msm64/nlq64 texels
-    std::string min_variance;          ///< VSM, EVSM; empty: the format's
-    std::string light_bleed_reduction; ///< VSM, EVSM; empty: 0
-};
-
 /// Global options shared by every subcommand.
 struct GlobalArguments {
     std::string device; ///< empty: default selection (MSMCL_DEVICE, else first GPU, ...)
@@ -47,11 +30,16 @@ struct GlobalArguments {
     DeviceSelection selection() const;
 };
 
-struct BatchArguments;
-/// One file or a batch; returns the exit code (host/cli/batch.hpp).
-int run_filter(const GlobalArguments& global, const FilterArguments& arguments, const BatchArguments& batch);
-void run_shade(const GlobalArguments& global, const ShadeArguments& arguments);
-/// Prints one line per device to stdout and marks the one a Context would pick.
-void run_devices(const GlobalArguments& global);
+/// A subcommand as its file added it to the application.
+struct Subcommand {
+    CLI::App* command = nullptr; ///< CLI11's subcommand, holding its options
+    /// Runs the subcommand once CLI11 parsed it (its options are filled); returns the exit code.
+    std::function<int(const GlobalArguments& global)> run;
+    /// Takes `--device all` (a batch spread over every device): filter and sat.
+    bool spreads_over_devices = false;
+};
+
+/// Library input errors do not know the file; put it in front.
+[[noreturn]] void rethrow_with_file(const std::string& path, const input_error& e);
 
 } // namespace msmcl::cli

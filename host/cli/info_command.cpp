@@ -22,6 +22,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <regex>
 #include <set>
@@ -407,23 +408,6 @@ void print_text(std::ostream& out, const json& info) {
         }
 }
 
-} // namespace
-
-void add_info_command(CLI::App& app, InfoArguments& arguments) {
-    arguments.command = app.add_subcommand(
-        "info", "Describe files msmcl reads or writes: kind, size, format, attributes, value ranges, NaN/Inf counts");
-    arguments.command->add_option("files", arguments.files, "EXR, KTX2, DDS, scene JSON or PNG files")->required();
-    arguments.command->add_flag("--json", arguments.json, "one JSON array on stdout instead of text");
-    arguments.command->add_option("--depth-range", arguments.depth_range,
-                                  "convention of depth maps and receivers: 0,1 or -1,1 (they record none)")
-        ->capture_default_str()
-        ->type_name("RANGE");
-}
-
-std::string describe_json(const std::string& path, DepthRange depth_range) {
-    return describe(path, depth_range).dump();
-}
-
 int run_info(const InfoArguments& arguments) {
     const DepthRange depth_range = parse_depth_range_option(arguments.depth_range);
     // Every readable file is described; each bad one is named on stderr (as exrheader and
@@ -446,6 +430,26 @@ int run_info(const InfoArguments& arguments) {
     }
     std::cout << out.str() << std::flush;
     return bad_input ? 2 : 0;
+}
+
+} // namespace
+
+std::string describe_json(const std::string& path, DepthRange depth_range) {
+    return describe(path, depth_range).dump();
+}
+
+Subcommand add_info_command(CLI::App& app) {
+    const auto parsed = std::make_shared<InfoArguments>();
+    InfoArguments& arguments = *parsed;
+    CLI::App* command = app.add_subcommand(
+        "info", "Describe files msmcl reads or writes: kind, size, format, attributes, value ranges, NaN/Inf counts");
+    command->add_option("files", arguments.files, "EXR, KTX2, DDS, scene JSON or PNG files")->required();
+    command->add_flag("--json", arguments.json, "one JSON array on stdout instead of text");
+    command->add_option("--depth-range", arguments.depth_range,
+                                  "convention of depth maps and receivers: 0,1 or -1,1 (they record none)")
+        ->capture_default_str()
+        ->type_name("RANGE");
+    return {command, [parsed](const GlobalArguments&) { return run_info(*parsed); }};
 }
 
 } // namespace msmcl::cli

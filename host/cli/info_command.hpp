@@ -12,8 +12,6 @@
 
 #include <msmcl/formats.hpp>
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 #include <vector>
 
@@ -23,14 +21,12 @@ struct InfoArguments {
     std::vector<std::string> files;
     bool json = false;
     std::string depth_range = "0,1"; ///< convention of depth maps and receivers (they record none)
-    CLI::App* command = nullptr;
 };
 
-void add_info_command(CLI::App& app, InfoArguments& arguments);
-
-/// Prints the description of every readable file to stdout (text, or one JSON array with
-/// --json) and names each unreadable one on stderr; returns the exit code (2: one was bad).
-int run_info(const InfoArguments& arguments);
+/// Adds `info` to the application: it prints the description of every readable file to
+/// stdout (text, or one JSON array with --json) and names each unreadable one on stderr;
+/// its exit code is 2 when one was bad.
+Subcommand add_info_command(CLI::App& app);
 
 /// The description of one file as `msmcl info --json` prints it (one object of its array),
 /// as JSON text (the Python module's msmcl.info).

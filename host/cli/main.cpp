@@ -2,13 +2,16 @@
 // Exit codes: 0 success, 2 bad input or usage, 1 device or runtime failure.
 // Every failure prints exactly one line on stderr: "msmcl: [<file>: ]<problem>" (a batch and
 // `info` one per bad file). A bare `msmcl` prints the usage and the commands (exit 2).
-#include "cli/batch.hpp"
 #include "cli/commands.hpp"
+#include "cli/devices_command.hpp"
 #include "cli/environment.hpp"
+#include "cli/filter_command.hpp"
 #include "cli/info_command.hpp"
 #include "cli/progress.hpp"
-#include "cli/sat_commands.hpp"
-#include "cli/scatter_commands.hpp"
+#include "cli/sat_command.hpp"
+#include "cli/scatter_command.hpp"
+#include "cli/shade_command.hpp"
+#include "cli/soft_command.hpp"
 #include "cli/suggestions.hpp"
 #include "io/atomic_file.hpp"
 
@@ -17,10 +20,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <csignal>
 #include <iostream>
 #include <new>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -88,90 +93,13 @@ int main(int argc, char** argv) {
                  "upload, kernel, download, write)");
     app.add_flag("-q,--quiet", global.quiet, "nothing on stderr but errors: no progress line, no batch summary");
 
-    // msmcl filter IN.exr OUT.exr|OUT.ktx2|OUT.dds --format F [--sigma S] [--depth-range R] [--kernel K]
-    //              [--out-container C] [--exponents C+,C- | --exponent C]
-    // msmcl filter IN.exr... -o DIR | --list FILE [--shard I/N] [--json FILE|-] (same options)
-    // msmcl filter IN.exr... --array OUT.ktx2|OUT.dds (same options): one texture array
-    msmcl::cli::FilterArguments filter;
-    CLI::App* filter_command =
-        app.add_subcommand("filter", "Depth map (EXR, Z or sample<N>.Z) -> filtered moment shadow map (EXR, KTX2 or DDS)");
-    // IN OUT: a depth map EXR (optional translucent layers layer<k>.Z, layer<k>.A) and the
-    // texture to write (EXR; .ktx2 or .dds: KTX2 or DDS); or a batch: IN... -o DIR, --list FILE.
-    msmcl::cli::BatchArguments filter_batch;
-    msmcl::cli::add_batch_options(*filter_command, filter_batch);
-    filter_command->add_option("--format", filter.format,
-                               "moments128, msm64, nlq64, nlq32, vsm32, vsm64, evsm2_32, evsm4_64, evsm4_128 or "
-                               "esm32 (required; docs/formats.md)")
-        ->type_name("FORMAT");
-    filter_command->add_option("--exponents", filter.exponents,
-                               "EVSM formats: the warp exponents c+ or c+,c- (default: the largest safe for the "
-                               "storage, docs/formats.md)")
-        ->type_name("C+,C-");
-    filter_command->add_option("--exponent", filter.exponent,
-                               "esm32: the warp exponent c (default 80, at most 88)")
-        ->type_name("C");
-    filter_command->add_option("--sigma", filter.sigma, "Gaussian sigma in texels, >= 0 (0 = no blur)")
-        ->capture_default_str()
-        ->type_name("FLOAT");
-    filter_command->add_option("--depth-range", filter.depth_range, "depth convention of the input: 0,1 or -1,1")
-        ->capture_default_str()
-        ->type_name("RANGE");
-    filter_command->add_option("--kernel", filter.kernel,
-                               "automatic (by the device's type), fused_paper (the paper's GPU kernel), "
-                               "fused_cpu (the CPU distribution) or three_pass (the baseline); all give the same "
-                               "texture up to the nlq formats' per-block shift")
-        ->capture_default_str()
-        ->type_name("KERNEL");
-    filter_command->add_option("--out-container", filter.out_container,
-                               "exr, ktx2 or dds (default: from the output's extension, else exr)")
-        ->type_name("CONTAINER");
-
-    // msmcl shade MAP.exr RECEIVERS.exr OUT.exr [--lookup L] [--frame N] [--depth-bias B] [--depth-range R]
-    //   [--min-variance V] [--light-bleed-reduction R]
-    msmcl::cli::ShadeArguments shade;
-    CLI::App* shade_command =
-        app.add_subcommand("shade", "Filtered map + receivers (EXR U,V,Z) -> shadow intensity (EXR Y)");
-    shade_command->add_option("map", shade.map, "texture written by msmcl filter (EXR, KTX2 or DDS)")->required();
-    shade_command->add_option("receivers", shade.receivers,
-                              "receivers EXR (FLOAT U, V in texels, Z depth; optional PX, PY screen pixels)")
-        ->required();
-    shade_command->add_option("output", shade.output, "intensity EXR to write (channel Y)")->required();
-    shade_command->add_option("--lookup", shade.lookup,
-                              "nearest, bilinear or dither (blue noise, one texel); default: the format's (bilinear)")
-        ->type_name("LOOKUP");
-    shade_command->add_option("--frame", shade.frame, "dither: frame number (picks the blue-noise texture and shift)")
-        ->capture_default_str()
-        ->type_name("N");
-    shade_command->add_option("--depth-bias", shade.depth_bias,
-                              "subtracted from the receiver's internal depth; default: the format's (1e-3)")
-        ->type_name("FLOAT");
-    shade_command->add_option("--min-variance", shade.min_variance,
-                              "VSM and EVSM maps: least variance of the depth in [0,1] for Chebyshev's bound, "
-                              "in [0, 0.25]; default: the format's (docs/formats.md)")
-        ->type_name("V");
-    shade_command->add_option("--light-bleed-reduction", shade.light_bleed_reduction,
-                              "VSM and EVSM maps: rescale the bound from [R,1] to [0,1], R in [0,1); default 0")
-        ->type_name("R");
-    shade_command->add_option("--depth-range", shade.depth_range,
-                              "depth convention of the receivers: 0,1 or -1,1 (default: the map's)")
-        ->type_name("RANGE");
-    shade_command->add_option("--format", shade.format,
-                              "the map's format (default: the file's; required for DDS msm64/nlq64 maps)")
-        ->type_name("FORMAT");
-
-    // msmcl sat ... and msmcl soft ... (host/cli/sat_commands.cpp)
-    msmcl::cli::SatCommands sat_commands;
-    msmcl::cli::add_sat_commands(app, sat_commands);
-
-    // msmcl scatter ... (host/cli/scatter_commands.cpp)
-    msmcl::cli::ScatterArguments scatter;
-    msmcl::cli::add_scatter_command(app, scatter);
-
-    CLI::App* devices_command = app.add_subcommand("devices", "List OpenCL devices; marks the one msmcl picks");
-
-    // msmcl info FILE... [--json] (host/cli/info_command.cpp)
-    msmcl::cli::InfoArguments info;
-    msmcl::cli::add_info_command(app, info);
+    // The subcommands, each from its own file (host/cli/<name>_command.cpp), in the order of
+    // the help.
+    const std::vector<msmcl::cli::Subcommand> commands = {
+        msmcl::cli::add_filter_command(app),  msmcl::cli::add_shade_command(app),
+        msmcl::cli::add_sat_command(app),     msmcl::cli::add_soft_command(app),
+        msmcl::cli::add_scatter_command(app), msmcl::cli::add_devices_command(app),
+        msmcl::cli::add_info_command(app)};
 
     // `msmcl --help` (and so the man page) ends with every environment variable msmcl reads.
     app.footer(app.get_footer() + "\n\n" + msmcl::cli::environment_help());
@@ -200,19 +128,16 @@ int main(int argc, char** argv) {
     msmcl::cli::set_quiet(global.quiet);
 
     // Run the chosen subcommand and map failures to exit codes.
+    const auto chosen = std::find_if(commands.begin(), commands.end(),
+                                     [](const msmcl::cli::Subcommand& command) { return command.command->parsed(); });
+    if (chosen == commands.end()) return usage(app);
     try {
         if (global.quiet && global.verbose) throw msmcl::cli::usage_error("-q/--quiet and -v/--verbose exclude each other");
         // --device all spreads a batch's files: the other commands have one device.
-        if (global.device == "all" && !filter_command->parsed() && !sat_commands.sat_command->parsed())
+        if (global.device == "all" && !chosen->spreads_over_devices)
             throw msmcl::cli::usage_error("--device all spreads the files of a batch: only filter and sat take it");
-        // filter and sat report a batch's failures per file and return its exit code.
-        if (filter_command->parsed()) return msmcl::cli::run_filter(global, filter, filter_batch);
-        else if (shade_command->parsed()) msmcl::cli::run_shade(global, shade);
-        else if (devices_command->parsed()) msmcl::cli::run_devices(global);
-        else if (info.command->parsed()) return msmcl::cli::run_info(info);
-        else if (scatter.command->parsed()) msmcl::cli::run_scatter(global, scatter);
-        else return msmcl::cli::run_sat_commands(global, sat_commands);
-        return 0;
+        // filter, sat and info return the exit code of their files; the others 0.
+        return chosen->run(global);
     } catch (const msmcl::cli::usage_error& e) {
         return report(e.what(), exit_bad_input);
     } catch (const msmcl::input_error& e) {

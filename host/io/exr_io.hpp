@@ -4,6 +4,9 @@
 // message starts with the file name: "<file>: <problem>".
 // Every write is atomic (see atomic_file.hpp) and byte-deterministic: ZIP compression,
 // no time stamps, attributes only as given.
+// One file per layout (exr_depth.cpp, exr_translucent_depth.cpp, exr_receivers.cpp,
+// exr_texture.cpp, exr_intensity.cpp) over exr_file.hpp, the opened and checked file and
+// the generic reader and writer; exr_header_check.hpp checks a header before OpenEXR does.
 #pragma once
 
 #include <msmcl/types.hpp>

@@ -1,7 +1,7 @@
 // Every program variant the operations build, described without a device: each operation
 // file defines the compile-time defines of its programs and its device-dependent choices
 // here, and uses the same functions when it enqueues. kernel_variants() lists them for
-// offline compilation (bench/kernel_variants.cpp, scripts/gpu_compile_report.py).
+// offline compilation (tests/gpu_compile/kernel_variants.cpp, scripts/gpu_compile_report.py).
 #pragma once
 
 #include <msmcl/context.hpp>

@@ -1,4 +1,4 @@
-#include "cli/scatter_commands.hpp"
+#include "cli/scatter_command.hpp"
 #include "cli/option_values.hpp"
 #include "cli/stages.hpp"
 #include "cli/texture_files.hpp"
@@ -15,6 +15,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 
 namespace msmcl::cli {
 namespace {
@@ -69,50 +70,6 @@ void write_scatter_map_ktx2(const std::string& path, const ScatterMap& map) {
     image.metadata = {{"msmcl:format", kind.name},
                       {"msmcl:scatterMoments", std::to_string(map.moments)}};
     io::write_ktx2(path, image);
-}
-
-} // namespace
-
-void add_scatter_command(CLI::App& app, ScatterArguments& a) {
-    CLI::App* command = app.add_subcommand(
-        "scatter", "Scene JSON + light depth map + camera depth buffer -> single-scattered radiance (EXR Y)");
-    command->add_option("scene", a.scene, "scene JSON (light, camera, medium, rectified map)")->required();
-    command->add_option("shadow_map", a.shadow_map, "light depth map EXR (Z or sample<N>.Z, the light's depth_range)")
-        ->required();
-    command->add_option("camera_depth", a.camera_depth, "camera depth buffer EXR (Z, the camera's convention)")->required();
-    command->add_option("output", a.output, "radiance EXR to write (channel Y)")->required();
-    command->add_option("--moments", a.moments, "4 or 6")->capture_default_str()->type_name("N");
-    command->add_flag("--no-filter", a.no_filter, "resample one depth sample per texel instead of a filtered moment sample");
-    command->add_option("--sigma", a.sigma, "Gaussian sigma (texels) of the moment map filtered resampling reads")
-        ->capture_default_str()
-        ->type_name("FLOAT");
-    command->add_option("--beta", a.beta, "bounds blend: adaptive, or B in [0,1] (0 lower bound, 1 upper bound)")
-        ->capture_default_str()
-        ->type_name("BETA");
-    command->add_option("--ray-march", a.ray_march, "ray march the shadow map with N samples instead (ground truth)")
-        ->type_name("N");
-    command->add_option("--jitter", a.jitter, "with --ray-march: per-pixel jitter seed (0 = midpoints)")
-        ->capture_default_str()
-        ->type_name("SEED");
-    command->add_option("--rectified", a.rectified, "also write the resampled rectified moments (EXR b1..bk)")
-        ->type_name("FILE");
-    command->add_option("--prefix-sums", a.prefix_sums, "also write the stored prefix sums, decoded (EXR b1..bk)")
-        ->type_name("FILE");
-    command->add_option("--kernel", a.kernel,
-                        "the prefilter's work per rectified row: automatic (by the device's type), rows_gpu (128 "
-                        "work-items, 2 texels each) or rows_cpu (64 work-items, 8 texels each); same bits")
-        ->capture_default_str()
-        ->type_name("KERNEL");
-    command->add_option("--filter-kernel", a.filter_kernel,
-                        "kernel of the moment map filtered resampling reads: automatic, fused_paper, fused_cpu or "
-                        "three_pass (as msmcl filter --kernel)")
-        ->capture_default_str()
-        ->type_name("KERNEL");
-    command->add_option("--map", a.map,
-                        "also write the prefiltered map as KTX2 (6 moments: 2 layers of A2B10G10R10_UNORM_PACK32, "
-                        "4: R16G16B16A16_UNORM)")
-        ->type_name("FILE.ktx2");
-    a.command = command;
 }
 
 void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
@@ -191,6 +148,55 @@ void run_scatter(const GlobalArguments& global, const ScatterArguments& a) {
     image.channels = {{"Y", io::SampleType::float32, radiance, {}}};
     image.attributes = {{"msmcl:scatterMethod", method}};
     stages.run("write", [&] { io::write_exr(a.output, image); });
+}
+
+} // namespace
+
+Subcommand add_scatter_command(CLI::App& app) {
+    const auto parsed = std::make_shared<ScatterArguments>();
+    ScatterArguments& a = *parsed;
+    CLI::App* command = app.add_subcommand(
+        "scatter", "Scene JSON + light depth map + camera depth buffer -> single-scattered radiance (EXR Y)");
+    command->add_option("scene", a.scene, "scene JSON (light, camera, medium, rectified map)")->required();
+    command->add_option("shadow_map", a.shadow_map, "light depth map EXR (Z or sample<N>.Z, the light's depth_range)")
+        ->required();
+    command->add_option("camera_depth", a.camera_depth, "camera depth buffer EXR (Z, the camera's convention)")->required();
+    command->add_option("output", a.output, "radiance EXR to write (channel Y)")->required();
+    command->add_option("--moments", a.moments, "4 or 6")->capture_default_str()->type_name("N");
+    command->add_flag("--no-filter", a.no_filter, "resample one depth sample per texel instead of a filtered moment sample");
+    command->add_option("--sigma", a.sigma, "Gaussian sigma (texels) of the moment map filtered resampling reads")
+        ->capture_default_str()
+        ->type_name("FLOAT");
+    command->add_option("--beta", a.beta, "bounds blend: adaptive, or B in [0,1] (0 lower bound, 1 upper bound)")
+        ->capture_default_str()
+        ->type_name("BETA");
+    command->add_option("--ray-march", a.ray_march, "ray march the shadow map with N samples instead (ground truth)")
+        ->type_name("N");
+    command->add_option("--jitter", a.jitter, "with --ray-march: per-pixel jitter seed (0 = midpoints)")
+        ->capture_default_str()
+        ->type_name("SEED");
+    command->add_option("--rectified", a.rectified, "also write the resampled rectified moments (EXR b1..bk)")
+        ->type_name("FILE");
+    command->add_option("--prefix-sums", a.prefix_sums, "also write the stored prefix sums, decoded (EXR b1..bk)")
+        ->type_name("FILE");
+    command->add_option("--kernel", a.kernel,
+                        "the prefilter's work per rectified row: automatic (by the device's type), rows_gpu (128 "
+                        "work-items, 2 texels each) or rows_cpu (64 work-items, 8 texels each); same bits")
+        ->capture_default_str()
+        ->type_name("KERNEL");
+    command->add_option("--filter-kernel", a.filter_kernel,
+                        "kernel of the moment map filtered resampling reads: automatic, fused_paper, fused_cpu or "
+                        "three_pass (as msmcl filter --kernel)")
+        ->capture_default_str()
+        ->type_name("KERNEL");
+    command->add_option("--map", a.map,
+                        "also write the prefiltered map as KTX2 (6 moments: 2 layers of A2B10G10R10_UNORM_PACK32, "
+                        "4: R16G16B16A16_UNORM)")
+        ->type_name("FILE.ktx2");
+    return {command, [parsed](const GlobalArguments& global) {
+                run_scatter(global, *parsed);
+                return 0;
+            }};
 }
 
 } // namespace msmcl::cli

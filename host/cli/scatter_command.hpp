@@ -8,8 +8,6 @@
 
 #include "cli/commands.hpp"
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 
 namespace msmcl::cli {
@@ -30,12 +28,9 @@ struct ScatterArguments {
     std::string kernel = "automatic";        ///< the prefilter's rows: automatic, rows_gpu or rows_cpu
     std::string filter_kernel = "automatic"; ///< the moment map's filter kernel (as msmcl filter --kernel)
     std::string map;         ///< optional KTX2 of the prefiltered map, as a renderer uploads it
-    CLI::App* command = nullptr;
 };
 
 /// Adds `scatter` to the application.
-void add_scatter_command(CLI::App& app, ScatterArguments& arguments);
-
-void run_scatter(const GlobalArguments& global, const ScatterArguments& arguments);
+Subcommand add_scatter_command(CLI::App& app);
 
 } // namespace msmcl::cli
