@@ -21,6 +21,8 @@ const std::vector<EnvironmentVariable>& environment_variables() {
         {"MSMCL_MAX_BYTES", "most bytes of a file read and of its decoded channels (default 1073741824, 1 GiB)"},
         {"MSMCL_CPU_TILE", "WxH: the tile of the CPU filter kernel (default 128x64; W and H at most 1024); a value "
                            "of another form is ignored"},
+        {"MSMCL_FUSED_WORK_ITEMS", "128, 64 or 32: start the fused GPU filter kernel with groups of that many "
+                                   "work-items instead of 256 (the same texels; other values are ignored)"},
         {"MSMCL_PROGRESS_AFTER_MS", "milliseconds of work before the progress line appears on a terminal (default "
                                     "500; 0: at once)"},
     };
