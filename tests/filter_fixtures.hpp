@@ -36,6 +36,28 @@ using msmcl::FilterKernel;
 using msmcl::Format;
 using msmcl::Texture;
 
+// Sets an environment variable for one scope and puts back what was there before (a
+// tuning variable the test run itself was started with, such as the rusticl label's
+// MSMCL_CPU_TILE, must outlive the test that overrides it).
+class ScopedEnvironment {
+public:
+    ScopedEnvironment(const char* name, const char* value) : name_(name) {
+        if (const char* previous = std::getenv(name)) previous_ = previous, had_previous_ = true;
+        ::setenv(name, value, 1);
+    }
+    ~ScopedEnvironment() {
+        if (had_previous_) ::setenv(name_.c_str(), previous_.c_str(), 1);
+        else ::unsetenv(name_.c_str());
+    }
+    ScopedEnvironment(const ScopedEnvironment&) = delete;
+    ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+private:
+    std::string name_;
+    std::string previous_;
+    bool had_previous_ = false;
+};
+
 inline std::uint32_t test_seed() {
     const char* text = std::getenv("MSMCL_TEST_SEED");
     return text ? static_cast<std::uint32_t>(std::strtoul(text, nullptr, 10)) : 4096u;

@@ -490,9 +490,10 @@ TEST_F(Filter, OtherCpuTilingsGiveTheSameTexture) {
     const DepthImage depth = make_depth(203, 77, 4, DepthRange::zero_one, test_seed() + 29);
     const Texture standard = run(depth, Format::msm64, 2.4f, DepthRange::zero_one, FilterKernel::fused_cpu);
     for (const char* tiling : {"8x1", "40x7"}) {
-        setenv("MSMCL_CPU_TILE", tiling, 1);
-        const Texture other = run(depth, Format::msm64, 2.4f, DepthRange::zero_one, FilterKernel::fused_cpu);
-        unsetenv("MSMCL_CPU_TILE");
+        const Texture other = [&] {
+            const ScopedEnvironment tile("MSMCL_CPU_TILE", tiling);
+            return run(depth, Format::msm64, 2.4f, DepthRange::zero_one, FilterKernel::fused_cpu);
+        }();
         EXPECT_EQ(other.words, standard.words) << "tiling " << tiling;
     }
     EXPECT_EQ(standard.words, run(depth, Format::msm64, 2.4f, DepthRange::zero_one, FilterKernel::three_pass).words);
@@ -536,9 +537,10 @@ TEST_F(Filter, SmallerFusedGroupsGiveTheSameTexture) {
     for (Format format : msmcl::detail::filter_formats()) {
         const Texture standard = run(depth, format, 2.4f, DepthRange::zero_one, FilterKernel::fused_paper);
         for (const char* work_items : {"128", "64", "32"}) {
-            setenv("MSMCL_FUSED_WORK_ITEMS", work_items, 1);
-            const Texture smaller = run(depth, format, 2.4f, DepthRange::zero_one, FilterKernel::fused_paper);
-            unsetenv("MSMCL_FUSED_WORK_ITEMS");
+            const Texture smaller = [&] {
+                const ScopedEnvironment group("MSMCL_FUSED_WORK_ITEMS", work_items);
+                return run(depth, format, 2.4f, DepthRange::zero_one, FilterKernel::fused_paper);
+            }();
             EXPECT_EQ(smaller.words, standard.words) << msmcl::format_name(format) << ", " << work_items << " work-items";
         }
     }
