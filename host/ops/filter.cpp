@@ -39,7 +39,7 @@ constexpr int kFusedTileHeight = FUSED_OUT_H;
 // (FUSED_WORK_ITEMS in kernels/filter_fused_gpu.cl), the same tile and the same bits.
 constexpr std::size_t kFusedSmallerGroups[] = {128, 64, 32};
 // The CPU distribution (kernels/filter_fused_cpu.cl, layout in fused_cpu_layout.clh): one
-// work-item per input column of a tile (width + 8 guard columns), the tile's rows streamed.
+// work-item per group filters a whole tile, streaming its rows.
 // Tuning parameters, measured on PoCL 3.1 / AVX-512 (bench/): MSMCL_CPU_TILE="WxH"
 // overrides them for other CPUs (host/runtime/tuning.hpp).
 constexpr int kCpuTileWidth = 128;
@@ -49,14 +49,22 @@ struct CpuTiling {
     int width = kCpuTileWidth;
     int height = kCpuTileHeight;
 
-    // The narrower tile of groups of at most `work_items` (none below 8 columns).
-    std::optional<CpuTiling> narrowed_to(std::size_t work_items) const {
-        if (work_items < static_cast<std::size_t>(4 * CPU_GUARD) || group_size() <= work_items) return std::nullopt;
-        return CpuTiling{static_cast<int>(work_items) - 2 * CPU_GUARD, height};
+    // The widest tile of at most half this width whose group needs at most `local_bytes`
+    // of local memory (none below the guard band's 8 columns).
+    std::optional<CpuTiling> narrowed_to(unsigned long long local_bytes) const {
+        for (int narrower = width / 2; narrower >= kCpuNarrowestTile; narrower /= 2) {
+            if (static_cast<unsigned long long>(CPU_LOCAL_BYTES(narrower)) <= local_bytes) return CpuTiling{narrower, height};
+        }
+        return std::nullopt;
     }
 
-    // Work-items per group: one per input column (the tile and its guard band).
-    std::size_t group_size() const { return static_cast<std::size_t>(CPU_IN_W_OF(width)); }
+    // Local memory of one group (every format the same).
+    unsigned long long local_bytes() const { return static_cast<unsigned long long>(CPU_LOCAL_BYTES(width)); }
+
+    // Work-items per group: one, which filters the whole tile.
+    static constexpr std::size_t group_size() { return 1; }
+
+    static constexpr int kCpuNarrowestTile = 2 * CPU_GUARD;
 };
 
 // The most local memory a variant of `kernel` (fused_paper or fused_cpu) needs over every
@@ -133,9 +141,7 @@ bool device_runs_fused(const DeviceInfo& device) {
 
 // Whether the device could run the CPU kernel in `tiling` or a narrower tile.
 bool device_runs_fused_cpu(const DeviceInfo& device, const CpuTiling& tiling) {
-    const CpuTiling narrowest = tiling.narrowed_to(4 * CPU_GUARD).value_or(tiling);
-    return device.max_work_group_size >= std::min(tiling.group_size(), static_cast<std::size_t>(4 * CPU_GUARD)) &&
-           device.local_mem_bytes >= most_local_bytes(FilterKernel::fused_cpu, narrowest);
+    return device.local_mem_bytes >= tiling.local_bytes() || tiling.narrowed_to(device.local_mem_bytes).has_value();
 }
 
 std::string device_limits(const DeviceInfo& device) {
@@ -162,10 +168,9 @@ FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
     }
     if (requested == FilterKernel::fused_cpu && !device_runs_fused_cpu(device, tiling)) {
         throw unfit_kernel_error("filter: device '" + device.name + "' cannot run the CPU fused kernel (needs " +
-                           std::to_string(tiling.group_size()) + " work-items per group and " +
-                           std::to_string(most_local_bytes(FilterKernel::fused_cpu, tiling)) +
-                           " bytes of local memory; it has " +
-                           device_limits(device) + ")");
+                           std::to_string(CPU_LOCAL_BYTES(CpuTiling::kCpuNarrowestTile)) +
+                           " bytes of local memory for its narrowest tile; it has " +
+                           std::to_string(device.local_mem_bytes) + ")");
     }
     return requested;
 }
@@ -209,7 +214,6 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
     const int ix1 = std::max(ix0, (width - CPU_GUARD) / tiling.width);
     const std::size_t interior_columns = static_cast<std::size_t>(ix1 - ix0);
     const std::size_t border_columns = static_cast<std::size_t>(tiles_x) - interior_columns;
-    const std::size_t group = tiling.group_size();
 
     const auto prepare = [&](const char* name) -> cl::Kernel& {
         cl::Kernel& kernel = impl.kernel("filter_fused_cpu.cl", defines, name);
@@ -223,26 +227,18 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
         return kernel;
     };
 
-    // One int of scratch per group of each layer: its current row (see CPU_FILTER_TILE in the kernel).
-    cl_int status = CL_SUCCESS;
-    cl::Buffer progress(impl.context, CL_MEM_READ_WRITE,
-                        sizeof(cl_int) * std::max(interior_columns, border_columns) * tiles_y * array_layers, nullptr,
-                        &status);
-    detail::check(status, "clCreateBuffer(filter progress)");
-
     std::vector<cl::Event> before = waits;
     cl::Event last;
     const auto launch = [&](const char* name, std::size_t columns) {
         cl::Kernel& kernel = prepare(name);
-        detail::set_arg(kernel, 11, progress);
-        detail::set_arg(kernel, 12, 0); // `zero`: see CPU_X in the kernel
         if (layers.count > 0) {
-            detail::set_arg(kernel, 13, layers.depth);
-            detail::set_arg(kernel, 14, layers.opacity);
+            detail::set_arg(kernel, 11, layers.depth);
+            detail::set_arg(kernel, 12, layers.opacity);
         }
+        // One group (of one work-item) per tile.
         detail::check(queue.enqueueNDRangeKernel(kernel, cl::NullRange,
-                                                 layered(columns * group, static_cast<std::size_t>(tiles_y), array_layers),
-                                                 group_of(group, array_layers), &before, &last),
+                                                 layered(columns, static_cast<std::size_t>(tiles_y), array_layers),
+                                                 group_of(CpuTiling::group_size(), array_layers), &before, &last),
                       (std::string("clEnqueueNDRangeKernel(") + name + ")").c_str());
         before = {last};
     };
@@ -306,20 +302,20 @@ FilterPlan plan_filter(detail::ContextImpl& impl, FilterKernel requested, int sa
                                   detail::filter_cpu_defines(samples, options.format, options.depth_range, layers,
                                                              array_layers > 1, tiling->width, options.exponents),
                                   "filter_fused_cpu_border"));
-            const unsigned long long local_bytes =
-                detail::filter_local_bytes(FilterKernel::fused_cpu, options.format, tiling->width);
-            if (fit.runs(tiling->group_size()) && local_bytes <= fit.device_local_bytes) {
+            if (fit.runs(CpuTiling::group_size()) && tiling->local_bytes() <= fit.device_local_bytes) {
                 plan.kernel = FilterKernel::fused_cpu;
                 plan.tiling = *tiling;
                 impl.note_choice("filter", "fused_cpu, tile " + std::to_string(tiling->width) + "x" +
-                                               std::to_string(tiling->height) + " (" +
-                                               std::to_string(tiling->group_size()) + " work-items)" +
+                                               std::to_string(tiling->height) + " (one work-item a tile)" +
                                                (reasons.empty() ? "" : " (" + reasons + ")"));
                 return plan;
             }
-            reasons += std::string(reasons.empty() ? "" : "; ") + "fused_cpu with " +
-                       std::to_string(tiling->group_size()) + " work-items: the built kernel allows " + fit.limits();
-            tiling = tiling->narrowed_to(fit.work_items);
+            reasons += std::string(reasons.empty() ? "" : "; ") + "fused_cpu with tile width " +
+                       std::to_string(tiling->width) + " (" + std::to_string(tiling->local_bytes()) +
+                       " bytes of local memory): the built kernel allows " + fit.limits();
+            // A work-item too many cannot be narrowed away; too little local memory can.
+            if (!fit.runs(CpuTiling::group_size())) break;
+            tiling = tiling->narrowed_to(fit.device_local_bytes);
         }
     } else {
         impl.note_choice("filter", std::string("three_pass") + (requested == FilterKernel::three_pass
@@ -448,7 +444,7 @@ unsigned long long filter_local_bytes(FilterKernel kernel, Format format, int cp
     const TextureKind& kind = texture_kind(format);
     if (kernel == FilterKernel::fused_paper) return FUSED_LOCAL_BYTES(kind.shifted);
     if (kernel == FilterKernel::fused_cpu)
-        return static_cast<unsigned long long>(CPU_LOCAL_BYTES(cpu_tile_width, kind.shifted, float_texels(kind)));
+        return static_cast<unsigned long long>(CPU_LOCAL_BYTES(cpu_tile_width));
     return 0;
 }
 
