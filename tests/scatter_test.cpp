@@ -465,6 +465,44 @@ TEST(ScatterMath, ArcSineAndArcCosineWithinUlps) {
     EXPECT_EQ(msm_acosf(0.0f), static_cast<float>(pi / 2));
 }
 
+TEST(ScatterMath, ExpM1WithinUlps) {
+    // The bounds of kernels/msm_scatter.clh, measured there over every float of [-87, 88].
+    const double negative_bound = 0.85, positive_bound = 1.451;
+    std::mt19937 rng(test_seed() + 10);
+    std::printf("ExpM1WithinUlps: seed %u\n", static_cast<unsigned>(test_seed() + 10));
+    // Fixed points: 0, the smallest floats, the reduction's edges at +-ln2/2, the ends.
+    std::vector<float> xs = {0.0f, -0.0f, 1.4e-45f, -1.4e-45f, 1e-30f, -1e-30f, 0.347886711f, -0.363868952f,
+                             -17.0f, -17.3f, -17.4f, -87.0f, 88.0f};
+    for (const float edge : {0.34657359f, -0.34657359f}) {
+        float below = edge, above = edge;
+        for (int k = 0; k < 4; ++k, below = std::nextafter(below, -1.0f), above = std::nextafter(above, 1.0f))
+            xs.insert(xs.end(), {below, above});
+    }
+    // A million more: half uniform in the bits of [-87, 88] (every binade), half uniform in
+    // [-20, 1] (the integral's range).
+    std::uniform_int_distribution<uint> bits(0u, as_uint(88.0f));
+    std::uniform_real_distribution<float> range(-20.0f, 1.0f);
+    for (int i = 0; i < 500000; ++i) {
+        const float x = as_float(bits(rng));
+        xs.push_back(x <= 87.0f && i % 2 ? -x : x);
+        xs.push_back(range(rng));
+    }
+    double worst_negative = 0, worst_positive = 0;
+    for (const float x : xs) {
+        const double error = ulps_off(msm_expm1f(x), std::expm1(static_cast<double>(x)));
+        const double bound = x <= 0.0f ? negative_bound : positive_bound;
+        if (error > bound) ADD_FAILURE() << "msm_expm1f(" << x << ") off by " << error << " ulp";
+        double& worst = x <= 0.0f ? worst_negative : worst_positive;
+        worst = std::max(worst, error);
+    }
+    std::printf("msm_expm1f within %.3f ulp for x <= 0, %.3f ulp for x > 0 (%zu arguments)\n", worst_negative,
+                worst_positive, xs.size());
+    // Beyond the range: -1 below, never Inf or NaN.
+    EXPECT_EQ(msm_expm1f(-1000.0f), -1.0f);
+    EXPECT_EQ(msm_expm1f(-INFINITY), -1.0f);
+    EXPECT_TRUE(std::isfinite(msm_expm1f(1000.0f)));
+}
+
 TEST(ScatterMath, TwoDepthsOfTwoPointDistributions) {
     std::mt19937 rng(test_seed() + 3);
     std::uniform_real_distribution<double> depth(-1.0, 1.0), weight(0.05, 0.95);
