@@ -71,9 +71,14 @@ static inline void write_moments(__global uint* quantized, __global float* momen
 }
 
 // weights: rect_width relative weights w_i, then rect_width inverse sums 1 / sum_{k<=i} w_k.
+// Each kernel copies its parameter struct into a private one as its first statement: read
+// field by field after a branch, a by-value struct argument makes Mesa's llvmpipe load the
+// kernel argument inside control flow, which it warns about (docs/devices.md).
 __kernel __attribute__((reqd_work_group_size(MSM_SCATTER_GROUP, 1, 1)))
-void scatter_prefilter(__global const float* source, int filtered, int output_mode, msm_scatter_params p,
+void scatter_prefilter(__global const float* source, int filtered, int output_mode, msm_scatter_params params,
                        __global const float* weights, __global uint* quantized, __global float* moments_out) {
+    // The parameters copied before any control flow (see the comment above the kernel).
+    const msm_scatter_params p = params;
     __local float scan[2 * MSM_K * MSM_SCATTER_GROUP];
     const int row = (int)get_group_id(0);
     const int lid = (int)get_local_id(0);
@@ -152,8 +157,10 @@ void scatter_prefilter(__global const float* source, int filtered, int output_mo
     }
 }
 
-__kernel void scatter_evaluate(__global const uint* map, __global const float* camera_depth, msm_scatter_params p,
+__kernel void scatter_evaluate(__global const uint* map, __global const float* camera_depth, msm_scatter_params params,
                                __global float* radiance) {
+    // The parameters copied before any control flow (see above scatter_prefilter).
+    const msm_scatter_params p = params;
     const int px = (int)get_global_id(0);
     const int py = (int)get_global_id(1);
     if (px >= p.cam_width || py >= p.cam_height) return;
@@ -166,7 +173,9 @@ __kernel void scatter_evaluate(__global const uint* map, __global const float* c
 }
 
 __kernel void scatter_ray_march(__global const float* depth_map, __global const float* camera_depth,
-                                msm_scatter_params p, int steps, uint jitter_seed, __global float* radiance) {
+                                msm_scatter_params params, int steps, uint jitter_seed, __global float* radiance) {
+    // The parameters copied before any control flow (see above scatter_prefilter).
+    const msm_scatter_params p = params;
     const int px = (int)get_global_id(0);
     const int py = (int)get_global_id(1);
     if (px >= p.cam_width || py >= p.cam_height) return;

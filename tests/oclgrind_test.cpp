@@ -714,8 +714,8 @@ protected:
 
 // Both row distributions of the prefilter: filtered resampling (the paper's filter kernel
 // first) with 6 moments, unfiltered with 4, and the float prefix sums before quantization.
-// Not bit for bit: the rectification (msm_scatter.clh) places every texel with sin, cos,
-// atan2 and acos, which OpenCL lets be 4 ulp off and which differ in their last bits
+// Not bit for bit: the rectification (msm_scatter.clh) places every texel with sin and cos,
+// which OpenCL lets be 4 ulp off and which differ in their last bits
 // between Oclgrind and PoCL (as log and exp do, see expect_texture). So a stored code may
 // differ by one and the float sums by kPrefixSumTolerance; the distribution of the work
 // plays no part (each row's sums are the same operations in the same order on both).

@@ -27,6 +27,7 @@
 #include <memory>
 #include <random>
 #include <sstream>
+#include <vector>
 
 namespace ref = msmcl::reference;
 using msmcl::ScatterScene;
@@ -415,6 +416,91 @@ TEST(ScatterReference, RayMarchImageIsRayMarchEverywhere) {
         }
     std::printf("ray_march_image vs ray_march: largest difference %.2g of the unshadowed radiance\n", worst);
     EXPECT_LT(worst, 1e-9);
+}
+
+// Error of a float result in ulps of the exact (double) value's binade.
+double ulps_off(float result, double exact) {
+    const int exponent = exact == 0.0 ? -126 : std::max(std::ilogb(exact), -126);
+    return std::fabs(static_cast<double>(result) - exact) / std::ldexp(1.0, exponent - 23);
+}
+
+TEST(ScatterMath, ArcSineAndArcCosineWithinUlps) {
+    // The bounds of kernels/msm_scatter.clh, measured there over every float of [-1, 1].
+    const double asin_bound = 2.405, acos_bound = 1.261;
+    std::mt19937 rng(test_seed() + 9);
+    std::printf("ArcSineAndArcCosineWithinUlps: seed %u\n", static_cast<unsigned>(test_seed() + 9));
+    // Fixed points: 0, the ends, the folds at +-1/2 and their neighbours, the smallest floats.
+    std::vector<float> xs = {0.0f, -0.0f, 1.4e-45f, 1.17549435e-38f, 1e-4f, 0.500245988f, 0.500880361f};
+    for (const float edge : {0.5f, 1.0f}) {
+        float below = edge, above = edge;
+        for (int k = 0; k < 4; ++k, below = std::nextafter(below, 0.0f), above = std::nextafter(above, 2.0f))
+            xs.insert(xs.end(), {below, above});
+    }
+    // A million more: half uniform in the bits of [0, 1] (every binade), half uniform in [0, 1].
+    std::uniform_int_distribution<uint> bits(0u, 0x3f800000u);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (int i = 0; i < 500000; ++i) {
+        xs.push_back(as_float(bits(rng)));
+        xs.push_back(unit(rng));
+    }
+    double worst_asin = 0, worst_acos = 0;
+    for (const float magnitude : xs)
+        for (const float x : {magnitude, -magnitude}) {
+            if (!(std::fabs(x) <= 1.0f)) continue; // nextafter(1, 2)
+            const double e_asin = ulps_off(msm_asinf(x), std::asin(static_cast<double>(x)));
+            const double e_acos = ulps_off(msm_acosf(x), std::acos(static_cast<double>(x)));
+            if (e_asin > asin_bound) ADD_FAILURE() << "msm_asinf(" << x << ") off by " << e_asin << " ulp";
+            if (e_acos > acos_bound) ADD_FAILURE() << "msm_acosf(" << x << ") off by " << e_acos << " ulp";
+            worst_asin = std::max(worst_asin, e_asin);
+            worst_acos = std::max(worst_acos, e_acos);
+        }
+    std::printf("msm_asinf within %.3f ulp, msm_acosf within %.3f ulp (%zu arguments)\n", worst_asin, worst_acos,
+                2 * xs.size());
+    // Exact at the ends and zero: the results the scattering kernels clamp towards.
+    EXPECT_EQ(msm_asinf(1.0f), static_cast<float>(pi / 2));
+    EXPECT_EQ(msm_asinf(-1.0f), -static_cast<float>(pi / 2));
+    EXPECT_EQ(msm_asinf(0.0f), 0.0f);
+    EXPECT_EQ(msm_acosf(1.0f), 0.0f);
+    EXPECT_EQ(msm_acosf(-1.0f), static_cast<float>(pi));
+    EXPECT_EQ(msm_acosf(0.0f), static_cast<float>(pi / 2));
+}
+
+TEST(ScatterMath, ExpM1WithinUlps) {
+    // The bounds of kernels/msm_scatter.clh, measured there over every float of [-87, 88].
+    const double negative_bound = 0.85, positive_bound = 1.451;
+    std::mt19937 rng(test_seed() + 10);
+    std::printf("ExpM1WithinUlps: seed %u\n", static_cast<unsigned>(test_seed() + 10));
+    // Fixed points: 0, the smallest floats, the reduction's edges at +-ln2/2, the ends.
+    std::vector<float> xs = {0.0f, -0.0f, 1.4e-45f, -1.4e-45f, 1e-30f, -1e-30f, 0.347886711f, -0.363868952f,
+                             -17.0f, -17.3f, -17.4f, -87.0f, 88.0f};
+    for (const float edge : {0.34657359f, -0.34657359f}) {
+        float below = edge, above = edge;
+        for (int k = 0; k < 4; ++k, below = std::nextafter(below, -1.0f), above = std::nextafter(above, 1.0f))
+            xs.insert(xs.end(), {below, above});
+    }
+    // A million more: half uniform in the bits of [-87, 88] (every binade), half uniform in
+    // [-20, 1] (the integral's range).
+    std::uniform_int_distribution<uint> bits(0u, as_uint(88.0f));
+    std::uniform_real_distribution<float> range(-20.0f, 1.0f);
+    for (int i = 0; i < 500000; ++i) {
+        const float x = as_float(bits(rng));
+        xs.push_back(x <= 87.0f && i % 2 ? -x : x);
+        xs.push_back(range(rng));
+    }
+    double worst_negative = 0, worst_positive = 0;
+    for (const float x : xs) {
+        const double error = ulps_off(msm_expm1f(x), std::expm1(static_cast<double>(x)));
+        const double bound = x <= 0.0f ? negative_bound : positive_bound;
+        if (error > bound) ADD_FAILURE() << "msm_expm1f(" << x << ") off by " << error << " ulp";
+        double& worst = x <= 0.0f ? worst_negative : worst_positive;
+        worst = std::max(worst, error);
+    }
+    std::printf("msm_expm1f within %.3f ulp for x <= 0, %.3f ulp for x > 0 (%zu arguments)\n", worst_negative,
+                worst_positive, xs.size());
+    // Beyond the range: -1 below, never Inf or NaN.
+    EXPECT_EQ(msm_expm1f(-1000.0f), -1.0f);
+    EXPECT_EQ(msm_expm1f(-INFINITY), -1.0f);
+    EXPECT_TRUE(std::isfinite(msm_expm1f(1000.0f)));
 }
 
 TEST(ScatterMath, TwoDepthsOfTwoPointDistributions) {
