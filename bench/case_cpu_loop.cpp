@@ -73,14 +73,6 @@ inline std::uint32_t quantize_nearest(float x, float max_code) {
     return static_cast<std::uint32_t>(static_cast<std::int32_t>(q));
 }
 
-// msm_quantize_up: ceil(x max) clamped to [0, max], NaN -> 0.
-inline std::uint32_t quantize_up(float x, float max_code) {
-    float q = std::ceil(x * max_code);
-    q = select(q > 0.0f, q, 0.0f);
-    q = select(q < max_code, q, max_code);
-    return static_cast<std::uint32_t>(static_cast<std::int32_t>(q));
-}
-
 // msm_psi4 with its early return as a select.
 inline float psi4(float xi4) {
     const float xi = msm_maxf(MSM_XI4_MIN, msm_minf(xi4, MSM_XI4_MAX));
@@ -90,14 +82,16 @@ inline float psi4(float xi4) {
     return select(xi4 > MSM_XI4_MIN, psi, 0.0f);
 }
 
-// msm_quantize_psi4: Psi4 rounded up, one more step where the inverse (exp by msm_exp)
-// falls below xi4.
+// msm_quantize_psi4: Psi4 rounded up (msm_quantize_up: ceil, clamped to [0, max]), one
+// more step where the inverse (exp by msm_exp) falls below xi4; the code kept as a float
+// (exact) until the end. The inverse's case psi >= 1 (code = max) needs no select: no step
+// is added there.
 inline std::uint32_t quantize_psi4(float xi4, float max_code) {
-    const std::uint32_t code = quantize_up(psi4(xi4), max_code);
-    const float psi = static_cast<float>(static_cast<std::int32_t>(code)) / max_code;
-    const float inverse = select(psi >= 1.0f, MSM_XI4_MAX,
-                                 msm_exp(msm_exp(psi * (MSM_PSI4_L1 - MSM_PSI4_L0) + MSM_PSI4_L0)) / 1e7f);
-    return code + ((code < static_cast<std::uint32_t>(max_code)) & (inverse < xi4) ? 1u : 0u);
+    const float up = std::ceil(psi4(xi4) * max_code);
+    const float code = select(up < max_code, select(up > 0.0f, up, 0.0f), max_code);
+    const float inverse = msm_exp(msm_exp(code / max_code * (MSM_PSI4_L1 - MSM_PSI4_L0) + MSM_PSI4_L0)) / 1e7f;
+    const float stepped = select((code < max_code) & (inverse < xi4), code + 1.0f, code);
+    return static_cast<std::uint32_t>(static_cast<std::int32_t>(stepped));
 }
 
 // msm_half_bits with its three cases as selects.
@@ -115,42 +109,43 @@ inline std::uint32_t half_bits(float x) {
 
 // ---- The values blurred per sample (msm_filter_lanes), LANES of them.
 
+struct Lanes4 {
+    float v0, v1, v2, v3;
+};
 struct MomentLanes { // b(z), unshifted as three_pass
     static constexpr int kLanes = 4;
-    static void of(float z, float, float, float* v) {
+    static Lanes4 of(float z, float, float) {
         const float z2 = z * z;
-        v[0] = z;
-        v[1] = z2;
-        v[2] = z2 * z;
-        v[3] = z2 * z2;
+        return {z, z2, z2 * z, z2 * z2};
     }
 };
 struct VsmLanes { // (t, t^2)
     static constexpr int kLanes = 2;
-    static void of(float z, float, float, float* v) {
-        v[0] = msm_unit_depth(z);
-        v[1] = v[0] * v[0];
+    static Lanes4 of(float z, float, float) {
+        const float t = msm_unit_depth(z);
+        return {t, t * t, 0.0f, 0.0f};
     }
 };
 struct Evsm2Lanes { // (p, p^2)
     static constexpr int kLanes = 2;
-    static void of(float z, float positive, float, float* v) {
-        v[0] = msm_exp(positive * z);
-        v[1] = v[0] * v[0];
+    static Lanes4 of(float z, float positive, float) {
+        const float p = msm_exp(positive * z);
+        return {p, p * p, 0.0f, 0.0f};
     }
 };
 struct Evsm4Lanes { // (p, p^2, n, n^2)
     static constexpr int kLanes = 4;
-    static void of(float z, float positive, float negative, float* v) {
-        v[0] = msm_exp(positive * z);
-        v[1] = v[0] * v[0];
-        v[2] = -msm_exp(-negative * z);
-        v[3] = v[2] * v[2];
+    static Lanes4 of(float z, float positive, float negative) {
+        const float p = msm_exp(positive * z);
+        const float n = -msm_exp(-negative * z);
+        return {p, p * p, n, n * n};
     }
 };
 struct EsmLanes { // exp(c (t - 1))
     static constexpr int kLanes = 1;
-    static void of(float z, float positive, float, float* v) { v[0] = msm_exp(positive * (msm_unit_depth(z) - 1.0f)); }
+    static Lanes4 of(float z, float positive, float) {
+        return {msm_exp(positive * (msm_unit_depth(z) - 1.0f)), 0.0f, 0.0f, 0.0f};
+    }
 };
 
 // What one band works with: the map, the taps, the warp, the output.
@@ -169,20 +164,29 @@ struct Job {
 // `planes` (LANES planes of `stride` floats, texel x at kGuard + x), guard texels copied
 // from the edges.
 template <int S, class L>
-void resolve_row(const Job& job, int y, float* __restrict planes, std::size_t stride) {
+void resolve_row(const Job& job, int y, float* planes, std::size_t stride) {
     const int width = job.width;
     const float* __restrict in = job.depth + static_cast<std::size_t>(y) * width * S;
-    float* __restrict out = planes + kGuard;
+    float* __restrict o0 = planes + kGuard;
+    float* __restrict o1 = o0 + (L::kLanes > 1 ? stride : 0);
+    float* __restrict o2 = o0 + (L::kLanes > 2 ? 2 * stride : 0);
+    float* __restrict o3 = o0 + (L::kLanes > 3 ? 3 * stride : 0);
     const float positive = job.positive, negative = job.negative;
 #pragma omp simd
     for (int x = 0; x < width; ++x) {
-        float sum[4], v[4];
-        L::of(internal_depth(in[x * S]), positive, negative, sum);
+        Lanes4 sum = L::of(internal_depth(in[x * S]), positive, negative);
+#pragma GCC unroll 16
         for (int s = 1; s < S; ++s) {
-            L::of(internal_depth(in[x * S + s]), positive, negative, v);
-            for (int j = 0; j < L::kLanes; ++j) sum[j] = sum[j] + v[j];
+            const Lanes4 v = L::of(internal_depth(in[x * S + s]), positive, negative);
+            sum.v0 = sum.v0 + v.v0;
+            sum.v1 = sum.v1 + v.v1;
+            sum.v2 = sum.v2 + v.v2;
+            sum.v3 = sum.v3 + v.v3;
         }
-        for (int j = 0; j < L::kLanes; ++j) out[j * stride + x] = sum[j] * (1.0f / float(S));
+        o0[x] = sum.v0 * (1.0f / float(S));
+        if (L::kLanes > 1) o1[x] = sum.v1 * (1.0f / float(S));
+        if (L::kLanes > 2) o2[x] = sum.v2 * (1.0f / float(S));
+        if (L::kLanes > 3) o3[x] = sum.v3 * (1.0f / float(S));
     }
     // Guard texels: the edge texels repeated (clamp to edge).
     for (int j = 0; j < L::kLanes; ++j) {
@@ -278,7 +282,7 @@ inline void nlq_row(float* const* b, float* const* n, int width) {
         const float b2 = bb2 + l2;
         const float q0 = -b1 * q1 - b2 * q2;
         const float discriminant = q1 * q1 - 4.0f * q2 * q0;
-        const bool single_depth = !(q2 > 0.0f) || !(discriminant > 0.0f);
+        const bool single_depth = !(q2 > 0.0f) | !(discriminant > 0.0f);
         const float root_d = std::sqrt(discriminant);
         const float t = -0.5f * (q1 + select(q1 >= 0.0f, root_d, -root_d));
         const float root_a = t / q2;
@@ -339,8 +343,9 @@ void encode_msm64(float* const* p, std::uint32_t* __restrict out, int width) {
     }
 }
 
-// nlq64 from the nlq planes (msm_encode_nlq64).
-void encode_nlq64(float* const* n, std::uint32_t* __restrict out, int width) {
+// nlq64 from the nlq planes (msm_encode_nlq64). Not inlined: inlined after nlq_row, GCC 12
+// leaves a branch in this loop and does not vectorize it (called once per row).
+__attribute__((noinline)) void encode_nlq64(float* const* n, std::uint32_t* __restrict out, int width) {
     const float* __restrict y1p = n[0];
     const float* __restrict y2p = n[1];
     const float* __restrict v2p = n[2];
