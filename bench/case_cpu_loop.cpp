@@ -11,8 +11,9 @@
 // order (first tap innermost, explicit fma, no contraction), unshifted as three_pass:
 // moments128, msm64 and the VSM, EVSM and ESM formats equal three_pass bit for bit. The
 // nlq formats take exp for Psi4's inverse from msm_exp (branch-free, vectorizes; std::exp
-// does not), where the device's exp may round the other way: a small share of their Psi4
-// codes may then differ from three_pass's by one step (equal_to_three_pass says how many).
+// does not), where the device's exp may round the other way: a few Psi4 codes may then
+// differ from three_pass's by one step (on PoCL at 2048^2, S = 4: 69 of nlq64's 8.4M words,
+// none of nlq32's; equal_to_three_pass says how many).
 #include "harness.hpp"
 
 #include <msmcl/filter.hpp>
@@ -107,7 +108,7 @@ inline std::uint32_t half_bits(float x) {
     return code | sign;
 }
 
-// ---- The values blurred per sample (msm_filter_lanes), LANES of them.
+// ---- The values blurred per sample (msm_filter_lanes), kLanes of them.
 
 struct Lanes4 {
     float v0, v1, v2, v3;
@@ -161,7 +162,7 @@ struct Job {
 // ---- Row steps.
 
 // Lanes of input row `y` averaged over its S samples (sum from sample 0 up, times 1/S) into
-// `planes` (LANES planes of `stride` floats, texel x at kGuard + x), guard texels copied
+// `planes` (L::kLanes planes of `stride` floats, texel x at kGuard + x), guard texels copied
 // from the edges.
 template <int S, class L>
 void resolve_row(const Job& job, int y, float* planes, std::size_t stride) {
