@@ -58,12 +58,12 @@ inline float float_of(std::uint32_t u) {
     return f;
 }
 
-// msm_internal_depth for the [0,1] range: 2d - 1 clamped to [-1,1], NaN -> -1.
+// msm_internal_depth for the [0,1] range: 2d - 1 clamped to [-1,1], NaN -> -1 (the first
+// select takes NaN to -1; both are one max and one min instruction).
 inline float internal_depth(float d) {
-    float z = 2.0f * d - 1.0f;
-    z = select(z > 1.0f, 1.0f, z);
-    z = select(z < -1.0f, -1.0f, z);
-    return select(z != z, -1.0f, z);
+    const float z = 2.0f * d - 1.0f;
+    const float above = select(z > -1.0f, z, -1.0f);
+    return select(above < 1.0f, above, 1.0f);
 }
 
 // msm_quantize_nearest: floor(x max + 0.5) clamped to [0, max], NaN -> 0.
