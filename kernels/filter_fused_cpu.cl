@@ -60,23 +60,34 @@ static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 // (min + max) / 2 of the internal depths z < 1 of sample 0 of the tile's input texels
 // (input columns [first, last) inside the image, rows y0 - 4 .. clamped into it, which is
 // the set of texels the resolve reads); 1 if all are on the far plane, which takes no part
-// (it would pull c halfway away from the geometry). min and max are exact in any order.
-// 0 for the other formats.
+// (it would pull c halfway away from the geometry). min and max are exact in any order:
+// first per column down the rows (a loop along x that vectorizes) into `scratch` (2 *
+// CPU_IN_W floats), then over the columns. 0 for the other formats.
 static inline float tile_shift(__global const float* depth, int width, int height, int x0, int y0, int first,
-                               int last, int rows_in) {
+                               int last, int rows_in, __local float* restrict scratch) {
 #if MSM_FORMAT_SHIFTED
-    float lowest = 1.0f, highest = -1.0f;
+    __local float* restrict lowest = scratch;
+    __local float* restrict highest = scratch + CPU_IN_W;
+    for (int x = first; x < last; ++x) {
+        lowest[x] = 1.0f;
+        highest[x] = -1.0f;
+    }
     for (int k = 0; k < rows_in; ++k) {
         const size_t row = (size_t)clamp(y0 - CPU_GUARD + k, 0, height - 1) * width;
         __global const float* texels = depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
         for (int x = first; x < last; ++x) {
             const float z = msm_internal_depth(texels[x * MSM_SAMPLES], MSM_DEPTH_ZERO_ONE);
             const int rendered = z < 1.0f;
-            lowest = rendered ? msm_minf(lowest, z) : lowest;
-            highest = rendered ? msm_maxf(highest, z) : highest;
+            lowest[x] = rendered ? msm_minf(lowest[x], z) : lowest[x];
+            highest[x] = rendered ? msm_maxf(highest[x], z) : highest[x];
         }
     }
-    return lowest <= highest ? (lowest + highest) * 0.5f : 1.0f;
+    float low = 1.0f, high = -1.0f;
+    for (int x = first; x < last; ++x) {
+        low = msm_minf(low, lowest[x]);
+        high = msm_maxf(high, highest[x]);
+    }
+    return low <= high ? (low + high) * 0.5f : 1.0f;
 #else
     return 0.0f;
 #endif
@@ -298,7 +309,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
     const int last = (BORDER) ? min(CPU_IN_W, width + CPU_GUARD - x0) : CPU_IN_W;                         \
     const int columns = (BORDER) ? min(CPU_TILE_W, width - x0) : CPU_TILE_W;                              \
     const int rows_in = min(CPU_TILE_H, height - y0) + 2 * CPU_GUARD;                                     \
-    const float shift = tile_shift(depth, width, height, x0, y0, first, last, rows_in);                  \
+    const float shift = tile_shift(depth, width, height, x0, y0, first, last, rows_in, filtered);        \
     for (int r = 0; r < rows_in; ++r) {                                                                   \
         const size_t row = (size_t)clamp(y0 - CPU_GUARD + r, 0, height - 1) * width;                      \
         resolve_row(depth, width, height, x0, first, last, row, shift, resolved CPU_LAYER_ARGS);          \
