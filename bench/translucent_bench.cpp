@@ -37,7 +37,7 @@ std::vector<CaseResult> run_lookups(BenchEnv& env, const Workload& work) {
     Context& context = *env.context;
     // The workload's map in its format, filtered into the workload's texture.
     filter(context, work.device_depth(), work.texture_buffer, work.filter_options());
-    const DeviceTexture map{work.texture_buffer, work.format, work.size, work.size};
+    const DeviceTexture map{work.texture_buffer, work.format, work.size, work.size, work.filter_options().exponents};
 
     // 2^18 receivers at random spots on the map's surface (sample 0 of their texel), the
     // pixels of a 512 x 512 view (row-major).

@@ -198,6 +198,22 @@ TEST_F(Cli, DevicesListsEveryDeviceAndMarksTheDefault) {
     EXPECT_EQ(marks, 1u) << result.out;
 }
 
+// devices --verbose adds what the automatic choice runs on the picked device, and why
+// (the filter's choice in two formats, found by filtering a small map; the SAT's kernel).
+TEST_F(Cli, DevicesVerboseSaysWhatTheAutomaticChoiceRuns) {
+    if (!have_device()) GTEST_SKIP() << "no OpenCL device";
+    const ProcessResult result = msmcl_cli({"--verbose", "devices"});
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const std::string expected_filter = msmcl::filter_kernel_name(msmcl::filter_kernel_for(
+        msmcl::Context(), msmcl::FilterKernel::automatic));
+    EXPECT_NE(result.out.find("automatic choices on "), std::string::npos) << result.out;
+    for (const char* format : {"msm64", "nlq32"})
+        EXPECT_NE(result.out.find(std::string("  ") + format + " filter: " + expected_filter), std::string::npos)
+            << result.out;
+    EXPECT_NE(result.out.find("  sat: "), std::string::npos) << result.out;
+    EXPECT_TRUE(outputs().empty());
+}
+
 TEST_F(Cli, UnknownDeviceIsADeviceErrorWithExitCodeOne) {
     if (!have_device()) GTEST_SKIP() << "no OpenCL device";
     msmcl::io::write_depth_exr(in("d.exr"), make_depth(16, 16, 1, DepthRange::zero_one));

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "reference/filter_reference.hpp"
+#include "ops/kernel_variants.hpp"
 #include "runtime/tuning.hpp"
 
 #include <msmcl/context.hpp>
@@ -137,12 +138,13 @@ inline ref::Nlq algorithm2_shifted(const ref::Moments& biased_shifted, double c)
     return n;
 }
 
-// Tile of the CPU distribution (kernels/filter_fused_cpu.cl): host/ops/filter.cpp's
-// kCpuTileWidth x kCpuTileHeight unless MSMCL_CPU_TILE ("WxH") overrides it, read by the
-// library's one reader of tuning overrides (host/runtime/tuning.hpp).
+// Tile of the CPU distribution (kernels/filter_fused_cpu.cl) on the device the test
+// program's Contexts pick: the library's own answer (MSMCL_CPU_TILE or the default, cut
+// where the device limits loops), read anew at each call since tests override the variable.
 inline std::array<int, 2> cpu_tile() {
-    if (const auto tile = msmcl::detail::cpu_filter_tile_override(8)) return {tile->width, tile->height};
-    return {128, 64};
+    static const msmcl::DeviceInfo device = msmcl::Context().device();
+    const msmcl::detail::TileSize tile = msmcl::detail::filter_cpu_tile(device);
+    return {tile.width, tile.height};
 }
 
 // Output block of a fused kernel: the paper's 32x24 (kernels/filter_fused_gpu.cl) or the CPU

@@ -427,7 +427,7 @@ TEST_F(Oclgrind, FusedCpuAndThreePassTranslucent) {
                      filtering(one, two, Format::msm64, FilterKernel::three_pass));
 }
 
-// The CPU distribution with its default 128x64 tile (136 work-items a group): border only
+// The CPU distribution with its default 128x64 tile (one work-item a tile): border only
 // on a map this small.
 TEST_F(Oclgrind, FusedCpuDefaultTile) {
     expect_texture("fused_cpu " + variant(Format::msm64, 4), Format::msm64,

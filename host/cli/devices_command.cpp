@@ -1,10 +1,35 @@
 #include "cli/devices_command.hpp"
 
+#include <msmcl/filter.hpp>
+#include <msmcl/sat.hpp>
+
 #include <iostream>
+#include <string>
 #include <vector>
 
 namespace msmcl::cli {
 namespace {
+
+/// --verbose: the work distributions the automatic choice gives on the picked device, and
+/// why (docs/devices.md). The filter's choice depends on the built kernels' limits, so a
+/// 16x16 map is filtered in the 64-bit and 32-bit formats to find it out.
+void print_kernel_choices(const GlobalArguments& global) {
+    Context context(global.selection());
+    DepthImage depth;
+    depth.width = 16;
+    depth.height = 16;
+    depth.depth.assign(16 * 16, 0.5f);
+    std::cout << "automatic choices on " << context.device().name << ":\n";
+    for (Format format : {Format::msm64, Format::nlq32}) {
+        FilterOptions options;
+        options.format = format;
+        filter(context, depth, options);
+        for (const std::string& line : context.kernel_choices())
+            std::cout << "  " << format_name(format) << " " << line << '\n';
+    }
+    std::cout << "  sat: " << sat_kernel_name(sat_kernel_for(context, SatKernel::automatic)) << '\n';
+    std::cout.flush();
+}
 
 /// Prints one line per device to stdout and marks the one a Context would pick.
 void run_devices(const GlobalArguments& global) {
@@ -25,6 +50,7 @@ void run_devices(const GlobalArguments& global) {
                   << (is_picked ? mark : "") << '\n';
     }
     std::cout.flush();
+    if (global.verbose) print_kernel_choices(global);
 }
 
 } // namespace

@@ -61,6 +61,15 @@ struct CpuTiling {
     // Local memory of one group (every format the same).
     unsigned long long local_bytes() const { return static_cast<unsigned long long>(CPU_LOCAL_BYTES(width)); }
 
+    // Loop iterations of the one work-item over its tile (kernels/filter_fused_cpu.cl), an
+    // upper bound: per input row the resolve, the 4 horizontal and 4 vertical blur loops,
+    // the quantization and the guard copies; the block shift's passes. A compiler that
+    // unrolls runs fewer.
+    long loop_iterations() const {
+        const long input_columns = CPU_IN_W_OF(width), input_rows = height + 2 * CPU_GUARD;
+        return input_rows * (2 * input_columns + 9L * width + 2 * CPU_GUARD + 1) + 2 * input_columns;
+    }
+
     // Work-items per group: one, which filters the whole tile.
     static constexpr std::size_t group_size() { return 1; }
 
@@ -76,12 +85,17 @@ unsigned long long most_local_bytes(FilterKernel kernel, const CpuTiling& tiling
     return most;
 }
 
-// The default tiling, or the MSMCL_CPU_TILE override (host/runtime/tuning.hpp).
-CpuTiling cpu_tiling() {
+// The default tiling, or the MSMCL_CPU_TILE override (host/runtime/tuning.hpp), on
+// `device`: where the device stops long loops (runtime/work_distribution.hpp), the tile
+// height halves until one work-item's loops stay within the limit.
+CpuTiling cpu_tiling(const DeviceInfo& device) {
     CpuTiling tiling;
     if (const std::optional<detail::TileSize> tile = detail::cpu_filter_tile_override(2 * CPU_GUARD)) {
         tiling.width = tile->width;
         tiling.height = tile->height;
+    }
+    if (const std::optional<long> limit = detail::loop_iteration_limit(device)) {
+        while (tiling.height > 1 && tiling.loop_iterations() > *limit) tiling.height /= 2;
     }
     return tiling;
 }
@@ -153,7 +167,7 @@ std::string device_limits(const DeviceInfo& device) {
 // is not a CPU never gets fused_cpu (its budgets are a CPU's: scripts/gpu_compile_report.py
 // exempts it). An explicit choice is honoured or refused with device_error.
 FilterKernel choose_kernel(const DeviceInfo& device, FilterKernel requested) {
-    const CpuTiling tiling = cpu_tiling();
+    const CpuTiling tiling = cpu_tiling(device);
     if (requested == FilterKernel::automatic) {
         if (!detail::prefers_gpu_distribution(device) && device_runs_fused_cpu(device, tiling))
             return FilterKernel::fused_cpu;
@@ -206,7 +220,7 @@ cl::Event enqueue_fused_cpu(detail::ContextImpl& impl, const cl::CommandQueue& q
                             const CpuTiling& tiling) {
     const std::vector<std::string> defines =
         detail::filter_cpu_defines(samples, options.format, options.depth_range, layers.count, array_layers > 1,
-                                   tiling.width, options.exponents);
+                                   {tiling.width, tiling.height}, options.exponents);
     // Tile grid; tile columns [ix0, ix1) read and write no column outside the image.
     const int tiles_x = (width + tiling.width - 1) / tiling.width;
     const int tiles_y = (height + tiling.height - 1) / tiling.height;
@@ -295,16 +309,21 @@ FilterPlan plan_filter(detail::ContextImpl& impl, FilterKernel requested, int sa
             work_items = kFusedSmallerGroups[next];
         }
     } else if (preferred == FilterKernel::fused_cpu) {
-        std::optional<CpuTiling> tiling = cpu_tiling();
+        std::optional<CpuTiling> tiling = cpu_tiling(impl.info);
         while (tiling) {
             const detail::KernelFit fit = detail::kernel_fit(
                 impl, impl.kernel("filter_fused_cpu.cl",
                                   detail::filter_cpu_defines(samples, options.format, options.depth_range, layers,
-                                                             array_layers > 1, tiling->width, options.exponents),
+                                                             array_layers > 1, {tiling->width, tiling->height},
+                                                             options.exponents),
                                   "filter_fused_cpu_border"));
             if (fit.runs(CpuTiling::group_size()) && tiling->local_bytes() <= fit.device_local_bytes) {
                 plan.kernel = FilterKernel::fused_cpu;
                 plan.tiling = *tiling;
+                // Why the tile is lower than asked: the device's loop limit (cpu_tiling).
+                if (tiling->height < cpu_tiling(DeviceInfo{}).height)
+                    reasons += std::string(reasons.empty() ? "" : "; ") + "height cut so that one work-item runs at most " +
+                               std::to_string(*detail::loop_iteration_limit(impl.info)) + " loop iterations";
                 impl.note_choice("filter", "fused_cpu, tile " + std::to_string(tiling->width) + "x" +
                                                std::to_string(tiling->height) + " (one work-item a tile)" +
                                                (reasons.empty() ? "" : " (" + reasons + ")"));
@@ -448,7 +467,12 @@ unsigned long long filter_local_bytes(FilterKernel kernel, Format format, int cp
     return 0;
 }
 
-int filter_cpu_tile_width() { return cpu_tiling().width; }
+int filter_cpu_tile_width() { return cpu_tiling(DeviceInfo{}).width; }
+
+TileSize filter_cpu_tile(const DeviceInfo& device) {
+    const CpuTiling tiling = cpu_tiling(device);
+    return {tiling.width, tiling.height};
+}
 
 FilterKernel filter_kernel_for(const DeviceInfo& device, FilterKernel requested) {
     return choose_kernel(device, requested);
@@ -470,9 +494,10 @@ std::vector<std::string> filter_defines(int samples, Format format, DepthRange r
 
 // The CPU kernel adds its tile.
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers, bool array,
-                                            int tile_width, WarpExponents exponents) {
-    CpuTiling tiling = cpu_tiling();
-    if (tile_width > 0) tiling.width = tile_width;
+                                            TileSize tile, WarpExponents exponents) {
+    CpuTiling tiling = cpu_tiling(DeviceInfo{});
+    if (tile.width > 0) tiling.width = tile.width;
+    if (tile.height > 0) tiling.height = tile.height;
     std::vector<std::string> defines = filter_defines(samples, format, range, layers, array, exponents);
     defines.push_back("CPU_TILE_W=" + std::to_string(tiling.width));
     defines.push_back("CPU_TILE_H=" + std::to_string(tiling.height));

@@ -4,6 +4,8 @@
 // offline compilation (tests/gpu_compile/kernel_variants.cpp, scripts/gpu_compile_report.py).
 #pragma once
 
+#include "runtime/tuning.hpp"
+
 #include <msmcl/context.hpp>
 #include <msmcl/filter.hpp>
 #include <msmcl/formats.hpp>
@@ -30,10 +32,13 @@ std::vector<std::string> filter_defines(int samples, Format format, DepthRange r
 unsigned long long filter_local_bytes(FilterKernel kernel, Format format, int cpu_tile_width);
 /// The CPU tile width in effect (MSMCL_CPU_TILE).
 int filter_cpu_tile_width();
-/// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE), or tiles
-/// `tile_width` wide (the narrower tile of a device with smaller groups).
+/// Defines of filter_fused_cpu.cl with the CPU tiling in effect (MSMCL_CPU_TILE), or the
+/// nonzero sizes of `tile` (the tile a device was given: filter_cpu_tile).
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers,
-                                            bool array = false, int tile_width = 0, WarpExponents exponents = {});
+                                            bool array = false, TileSize tile = {}, WarpExponents exponents = {});
+/// The CPU filter's tile on `device`: MSMCL_CPU_TILE or the default, its height cut where
+/// the device limits a work-item's loops (runtime/work_distribution.hpp).
+TileSize filter_cpu_tile(const DeviceInfo& device);
 
 // --- sat (host/ops/sat.cpp)
 /// The distribution `requested` resolves to on `device`.

@@ -7,10 +7,6 @@
 # llvmpipe warns while it compiles a kernel, and a cached kernel would hide the warning.
 set -u
 export RUSTICL_ENABLE=llvmpipe MSMCL_DEVICE=llvmpipe MSMCL_STRICT=1 MESA_SHADER_CACHE_DISABLE=true
-# llvmpipe runs every kernel in groups of at most 32 work-items: the CPU filter narrows its
-# tile to 24 columns. The filter tests' references shift the nlq moments per tile, so they
-# are told that tile (the tiling MSMCL_CPU_TILE names is the one both sides use).
-export MSMCL_CPU_TILE=${MSMCL_CPU_TILE:-24x64}
 cli=$1
 shift
 if ! "$cli" devices 2>/dev/null | grep -q "platform rusticl"; then
