@@ -5,6 +5,7 @@
 #include "ops/validation.hpp"
 #include "runtime/context_impl.hpp"
 #include "runtime/enum_names.hpp"
+#include "runtime/quirks.hpp"
 #include "runtime/texture_kinds.hpp"
 #include "runtime/tuning.hpp"
 #include "runtime/work_distribution.hpp"
@@ -86,7 +87,7 @@ unsigned long long most_local_bytes(FilterKernel kernel, const CpuTiling& tiling
 }
 
 // The default tiling, or the MSMCL_CPU_TILE override (host/runtime/tuning.hpp), on
-// `device`: where the device stops long loops (runtime/work_distribution.hpp), the tile
+// `device`: where the device stops long loops (runtime/quirks.hpp), the tile
 // height halves until one work-item's loops stay within the limit.
 CpuTiling cpu_tiling(const DeviceInfo& device) {
     CpuTiling tiling;

@@ -37,7 +37,7 @@ int filter_cpu_tile_width();
 std::vector<std::string> filter_cpu_defines(int samples, Format format, DepthRange range, int layers,
                                             bool array = false, TileSize tile = {}, WarpExponents exponents = {});
 /// The CPU filter's tile on `device`: MSMCL_CPU_TILE or the default, its height cut where
-/// the device limits a work-item's loops (runtime/work_distribution.hpp).
+/// the device limits a work-item's loops (runtime/quirks.hpp).
 TileSize filter_cpu_tile(const DeviceInfo& device);
 
 // --- sat (host/ops/sat.cpp)

@@ -3,6 +3,7 @@
 
 #include <msmcl/context.hpp>
 
+#include <optional>
 #include <string>
 
 namespace msmcl::detail {
@@ -50,6 +51,16 @@ inline std::string device_build_options(const DeviceInfo& device, const std::str
         return options;
     }
     return "";
+}
+
+/// The most loop iterations one work-item may run, where the device limits them. Mesa's
+/// llvmpipe (rusticl) compiles every kernel with its shader guard against endless loops:
+/// a work-item stops looping after 65535 iterations of all its loops together, silently,
+/// and what it had left to do is never done (measured: the CPU filter's 128x64 tile lost
+/// its last 19 output rows). std::nullopt: no limit.
+inline std::optional<long> loop_iteration_limit(const DeviceInfo& device) {
+    if (device.platform_name == "rusticl" && device.name.rfind("llvmpipe", 0) == 0) return 65535;
+    return std::nullopt;
 }
 
 } // namespace msmcl::detail
