@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
         cl_mem camera_buffer = make_buffer(context, pixels * 4, camera_depth.data());
         cl_mem radiance_buffer = make_buffer(context, pixels * 4, nullptr);
         const DeviceDepth device_depth{depth_buffer, map_size, map_size, 1};
-        const DeviceTexture moment_map{moment_buffer, Format::moments128, map_size, map_size};
+        const DeviceTexture moment_map{moment_buffer, Format::moments128, map_size, map_size, {}};
         FilterOptions filter_options;
         filter_options.format = Format::moments128;
         filter_options.sigma = 1.0f;

@@ -265,14 +265,21 @@ py::array texture_array(py::object self) {
     TextureObject& object = self.cast<TextureObject&>();
     Texture& t = object.texture;
     std::vector<py::ssize_t> shape = image_axes(t.layers, t.height, t.width, is_array(t));
+    // The texel's channels in their storage type (docs/formats.md); nlq32's packed word whole.
+    const auto channels = [&](py::dtype type, py::ssize_t count) {
+        shape.push_back(count);
+        return words_view(self, type, shape, t.words.data());
+    };
     switch (t.format) {
     case Format::moments128:
-        shape.push_back(4);
-        return words_view(self, py::dtype::of<float>(), shape, t.words.data());
+    case Format::evsm4_128: return channels(py::dtype::of<float>(), 4);
+    case Format::vsm64: return channels(py::dtype::of<float>(), 2);
+    case Format::esm32: return words_view(self, py::dtype::of<float>(), shape, t.words.data());
     case Format::msm64:
-    case Format::nlq64:
-        shape.push_back(4);
-        return words_view(self, py::dtype::of<std::uint16_t>(), shape, t.words.data());
+    case Format::nlq64: return channels(py::dtype::of<std::uint16_t>(), 4);
+    case Format::vsm32: return channels(py::dtype::of<std::uint16_t>(), 2);
+    case Format::evsm2_32: return channels(py::dtype("float16"), 2);
+    case Format::evsm4_64: return channels(py::dtype("float16"), 4);
     case Format::nlq32: break;
     }
     return words_view(self, py::dtype::of<std::uint32_t>(), shape, t.words.data());
@@ -649,7 +656,9 @@ PYBIND11_MODULE(_msmcl, m) {
         .def_property_readonly("depth_range", [](const TextureObject& t) { return depth_range_tuple(t.info.depth_range); })
         .def_property_readonly("array", &texture_array,
             "The texels, a writable view of the texture's memory (no copy; it keeps the texture alive): "
-            "moments128 float32 (H, W, 4) b1..b4; msm64 and nlq64 uint16 (H, W, 4) codes; nlq32 uint32 (H, W). "
+            "moments128 float32 (H, W, 4) b1..b4; msm64 and nlq64 uint16 (H, W, 4) codes; nlq32 uint32 (H, W); "
+            "vsm32 uint16 (H, W, 2); vsm64 float32 (H, W, 2); evsm2_32 and evsm4_64 float16 (H, W, 2 or 4); "
+            "evsm4_128 float32 (H, W, 4); esm32 float32 (H, W). "
             "A texture array has a leading axis L.")
         .def_property_readonly("words", &texture_words,
             "The texel words as the device and the files store them, a uint32 view (H, W, words per texel) of "

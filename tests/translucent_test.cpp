@@ -5,6 +5,7 @@
 // opaque surface, plausible partial shadow against the exact transmittance, the EXR layers
 // and the CLI.
 #include "filter_fixtures.hpp"
+#include "runtime/quirks.hpp"
 
 #include "io/exr_io.hpp"
 #include "reference/sat_reference.hpp"
@@ -40,6 +41,18 @@ std::uint32_t seed() {
 }
 
 constexpr FilterKernel kKernels[] = {FilterKernel::fused_paper, FilterKernel::fused_cpu, FilterKernel::three_pass};
+
+// Whether the device runs fused_cpu with translucent layers: not where it stops long loops
+// (llvmpipe, runtime/quirks.hpp; FusedCpuWithLayersIsUnfitWhereLoopsAreLimited checks the
+// refusal). Said once on stdout, so that a run shows what it left out.
+bool runs_cpu_layers(const msmcl::Context& context) {
+    static const bool runs = [&] {
+        const bool limited = msmcl::detail::loop_iteration_limit(context.device()).has_value();
+        if (limited) std::printf("fused_cpu with translucent layers: left out, the device limits loop iterations\n");
+        return !limited;
+    }();
+    return runs;
+}
 constexpr Format kFormats[] = {Format::moments128, Format::msm64, Format::nlq64, Format::nlq32};
 
 const char* kernel_name(FilterKernel kernel) {
@@ -99,6 +112,7 @@ TEST_F(Translucent, NoLayersAndTransparentLayersGiveTheOpaqueBits) {
     for (TranslucentLayer& layer : clear) std::fill(layer.opacity.begin(), layer.opacity.end(), 0.0f);
     for (FilterKernel kernel : kKernels)
         for (Format format : kFormats) {
+            if (kernel == FilterKernel::fused_cpu && !runs_cpu_layers(*context_)) continue;
             const Texture opaque = run(depth, format, 2.4f, DepthRange::zero_one, kernel);
             EXPECT_EQ(run_layers(depth, {}, format, kernel).words, opaque.words) << kernel_name(kernel) << " "
                                                                                   << msmcl::format_name(format);
@@ -128,10 +142,30 @@ TEST_F(Translucent, OpacityOneActsAsAnOpaqueSurface) {
     for (FilterKernel kernel : kKernels)
         for (Format format : kFormats) {
             if (kernel != FilterKernel::three_pass && (format == Format::nlq64 || format == Format::nlq32)) continue;
+            if (kernel == FilterKernel::fused_cpu && !runs_cpu_layers(*context_)) continue;
             EXPECT_EQ(run_layers(depth, {clear, wall}, format, kernel).words,
                       run(nearer, format, 2.4f, DepthRange::zero_one, kernel).words)
                 << kernel_name(kernel) << " " << msmcl::format_name(format) << ", seed " << seed();
         }
+}
+
+// On a device that stops long loops, an explicit fused_cpu with layers is refused with the
+// limit named (the CLI's exit 2), and automatic takes three_pass and says why.
+TEST_F(Translucent, FusedCpuWithLayersIsUnfitWhereLoopsAreLimited) {
+    if (runs_cpu_layers(*context_)) GTEST_SKIP() << "the device does not limit loop iterations";
+    const DepthImage depth = make_depth(20, 10, 1, DepthRange::zero_one, seed() + 4);
+    const std::vector<TranslucentLayer> layers = hidden_layers(depth, 1, DepthRange::zero_one, seed() + 5);
+    try {
+        run_layers(depth, layers, Format::msm64, FilterKernel::fused_cpu);
+        ADD_FAILURE() << "fused_cpu with layers ran on a device that limits loops";
+    } catch (const msmcl::unfit_kernel_error& e) {
+        EXPECT_NE(std::string(e.what()).find("65535 loop iterations"), std::string::npos) << e.what();
+    }
+    msmcl::FilterOptions options;
+    options.format = Format::msm64;
+    msmcl::filter(*context_, depth, layers, options);
+    EXPECT_EQ(context_->kernel_choices().back().rfind("filter: three_pass (fused_cpu with translucent layers", 0), 0u)
+        << context_->kernel_choices().back();
 }
 
 TEST_F(Translucent, HiddenLayerStacksMatchTheDoubleReference) {
@@ -159,6 +193,7 @@ TEST_F(Translucent, HiddenLayerStacksMatchTheDoubleReference) {
         const std::string what = std::to_string(c.width) + "x" + std::to_string(c.height) + " S=" +
                                  std::to_string(c.samples) + ", " + std::to_string(c.layers) + " layers";
         for (FilterKernel kernel : kKernels) {
+            if (kernel == FilterKernel::fused_cpu && !runs_cpu_layers(*context_)) continue;
             // moments128: every moment within the float32 tolerance.
             const Texture moments = run_layers(depth, layers, Format::moments128, kernel, c.sigma, c.range);
             expect_moments_close(moments, expected, tolerance, what + " " + kernel_name(kernel));
@@ -174,7 +209,7 @@ TEST_F(Translucent, HiddenLayerStacksMatchTheDoubleReference) {
         }
         if (!c.all_formats) {
             // The CPU distribution's nlq64 (the most intricate kernel, shifted per tile).
-            if (c.range == DepthRange::zero_one)
+            if (c.range == DepthRange::zero_one && runs_cpu_layers(*context_))
                 check_nlq_against_reference(run_layers(depth, layers, Format::nlq64, FilterKernel::fused_cpu, c.sigma),
                                             depth, FilterKernel::fused_cpu, expected, what + " nlq64 fused_cpu");
             continue;

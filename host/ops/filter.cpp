@@ -311,6 +311,15 @@ FilterPlan plan_filter(detail::ContextImpl& impl, FilterKernel requested, int sa
         }
     } else if (preferred == FilterKernel::fused_cpu) {
         std::optional<CpuTiling> tiling = cpu_tiling(impl.info);
+        // Translucent layers where the device stops long loops (runtime/quirks.hpp): the
+        // composite loops over the layers, and their square, for every sample of every
+        // texel, far past the limit in any useful tile.
+        if (layers > 0 && detail::loop_iteration_limit(impl.info)) {
+            reasons = "fused_cpu with translucent layers: the device stops a work-item after " +
+                      std::to_string(*detail::loop_iteration_limit(impl.info)) +
+                      " loop iterations, fewer than the composite takes over a tile";
+            tiling.reset();
+        }
         while (tiling) {
             const detail::KernelFit fit = detail::kernel_fit(
                 impl, impl.kernel("filter_fused_cpu.cl",

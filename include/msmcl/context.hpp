@@ -129,7 +129,7 @@ public:
     std::size_t programs_built() const;
 
     /// The work distribution each operation last ran with on this Context and why, one
-    /// line per operation ("filter: fused_cpu, tile 24x64 (32 work-items): ..."), in the
+    /// line per operation ("filter: fused_cpu, tile 128x64 (one work-item a tile)"), in the
     /// order the operations first ran (docs/devices.md, automatic choice).
     std::vector<std::string> kernel_choices() const;
 

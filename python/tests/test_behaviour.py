@@ -12,6 +12,20 @@ import msmcl
 from conftest import DATA, FORMATS, RAILING, RAILING_VIEW, random_depth
 
 
+@pytest.mark.parametrize("format, dtype, shape", [
+    ("vsm32", np.uint16, (24, 40, 2)), ("vsm64", np.float32, (24, 40, 2)), ("evsm2_32", np.float16, (24, 40, 2)),
+    ("evsm4_64", np.float16, (24, 40, 4)), ("evsm4_128", np.float32, (24, 40, 4)), ("esm32", np.float32, (24, 40))])
+def test_filterable_texture_arrays_are_their_channels(ctx, rng, format, dtype, shape):
+    # The VSM, EVSM and ESM formats: each channel in its storage type, viewing the texel words.
+    texture = ctx.filter(random_depth(rng, 24, 40), format=format)
+    view = texture.array
+    assert (view.dtype, view.shape) == (np.dtype(dtype), shape)
+    assert view.nbytes == texture.words.nbytes and np.shares_memory(view, texture.words)
+    # The first channel (a filtered warp or moment) is finite everywhere.
+    first = view[..., 0] if view.ndim == 3 else view
+    assert np.all(np.isfinite(first.astype(np.float64)))
+
+
 def test_devices_and_context(ctx):
     devices = msmcl.devices()
     assert devices, "no OpenCL device"
