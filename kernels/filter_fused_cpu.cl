@@ -46,6 +46,9 @@
 #endif
 
 #define CPU_IN_W CPU_IN_W_OF(CPU_TILE_W)
+#ifndef CPU_PREFETCH_AHEAD
+#define CPU_PREFETCH_AHEAD 4
+#endif
 
 // Origin of this group's output tile. Interior groups: tile column ix0 + group x; border
 // groups: the tile columns left of ix0, then those from ix1 on. Tile row = group y.
@@ -55,6 +58,33 @@ static inline int tile_x0(int border, int ix0, int ix1) {
     return column * CPU_TILE_W;
 }
 static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
+
+// Asks the caches for memory a few rows before the loops touch it (CPU_PREFETCH_AHEAD
+// rows, into the second-level cache): each tile row is a stretch of its own, too short for
+// the hardware prefetcher to ramp up, so without it the resolve (or the nlq formats' shift)
+// waited for the depth samples and each store for its cache line (docs/devices.md).
+// The depth samples of input columns [first, last) of image row y (clamped into the image).
+static inline void prefetch_depth_row(__global const float* depth, int width, int height, int x0, int first,
+                                      int last, int y) {
+    const size_t texel0 = (size_t)clamp(y, 0, height - 1) * width + (size_t)(x0 - CPU_GUARD);
+    __global const char* begin = (__global const char*)(depth + (texel0 + first) * MSM_SAMPLES);
+    __global const char* end = (__global const char*)(depth + (texel0 + last) * MSM_SAMPLES);
+    for (__global const char* line = begin; line < end; line += 64) __builtin_prefetch(line, 0, 2);
+}
+
+// What input row r + CPU_PREFETCH_AHEAD of the tile touches: its depth samples (the nlq
+// formats' shift has read them all before), and its output row's texels, to write.
+static inline void prefetch_rows(__global const float* depth, __global const uint* texture, int width, int height,
+                                 int x0, int y0, int first, int last, int columns, int r, int rows_in) {
+    const int ahead = r + CPU_PREFETCH_AHEAD;
+    if (ahead >= rows_in) return;
+    if (!MSM_FORMAT_SHIFTED) prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + ahead);
+    if (ahead < 2 * CPU_GUARD) return;
+    __global const char* begin =
+        (__global const char*)(texture + ((size_t)(y0 + ahead - 2 * CPU_GUARD) * width + x0) * MSM_TEXEL_WORDS);
+    __global const char* end = begin + (size_t)columns * MSM_TEXEL_WORDS * 4;
+    for (__global const char* line = begin; line < end; line += 64) __builtin_prefetch(line, 1, 2);
+}
 
 // The shift c of the nlq formats (docs/math.md), as in filter_fused_gpu.cl: the midrange
 // (min + max) / 2 of the internal depths z < 1 of sample 0 of the tile's input texels
@@ -73,6 +103,8 @@ static inline float tile_shift(__global const float* depth, int width, int heigh
         highest[x] = -1.0f;
     }
     for (int k = 0; k < rows_in; ++k) {
+        if (k + CPU_PREFETCH_AHEAD < rows_in)
+            prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + k + CPU_PREFETCH_AHEAD);
         const size_t row = (size_t)clamp(y0 - CPU_GUARD + k, 0, height - 1) * width;
         __global const float* texels = depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
         for (int x = first; x < last; ++x) {
@@ -232,13 +264,59 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 // `out` (the row's first texel), `columns` of them (the tile's columns inside the image).
 // The words of msm_store_texel (msm_formats.clh), written as scalar stores: a vector value
 // in the loop body (vstore2, vstore4) stops the vectorization along x.
-static inline __attribute__((always_inline, flatten)) void quantize_row(__local const float* restrict filtered,
+// The nlq formats take three loops over the row, through the `filtered` planes: Algorithm
+// 2 in place (b1..b4 -> y1, y2, v2, xi4), the Psi4 code in place of xi4 (its bits), then
+// the words. Each body is short enough that the core overlaps the long division and
+// logarithm chains of several iterations; in one body the nlq formats ran at half the
+// speed (docs/devices.md).
+static inline __attribute__((always_inline, flatten)) void quantize_row(__local float* restrict filtered,
+                                                                        __local float* restrict scratch,
                                                                         float shift, int columns,
                                                                         __global uint* restrict out) {
-    __local const float* restrict b1 = filtered;
-    __local const float* restrict b2 = filtered + CPU_TILE_W;
-    __local const float* restrict b3 = filtered + 2 * CPU_TILE_W;
-    __local const float* restrict b4 = filtered + 3 * CPU_TILE_W;
+    __local float* restrict b1 = filtered;
+    __local float* restrict b2 = filtered + CPU_TILE_W;
+    __local float* restrict b3 = filtered + 2 * CPU_TILE_W;
+    __local float* restrict b4 = filtered + 3 * CPU_TILE_W;
+#if MSM_FORMAT_SHIFTED
+#pragma clang loop interleave_count(2)
+    for (int x = 0; x < columns; ++x) {
+        msm_moments m;
+        m.b1 = b1[x];
+        m.b2 = b2[x];
+        m.b3 = b3[x];
+        m.b4 = b4[x];
+        const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift);
+        b1[x] = n.y1;
+        b2[x] = n.y2;
+        b3[x] = n.v2;
+        b4[x] = n.xi4;
+    }
+#if MSM_FORMAT == MSM_FORMAT_NLQ64
+#define CPU_PSI_CODE_MAX 65535.0f
+#else
+#define CPU_PSI_CODE_MAX 63.0f
+#endif
+    __local float* restrict psi_code = scratch;
+#pragma clang loop interleave_count(2)
+    for (int x = 0; x < columns; ++x) psi_code[x] = as_float(msm_psi4_code_up(b4[x], CPU_PSI_CODE_MAX));
+#pragma clang loop interleave_count(2)
+    for (int x = 0; x < columns; ++x)
+        psi_code[x] = as_float(msm_psi4_code_checked(as_uint(psi_code[x]), b4[x], CPU_PSI_CODE_MAX));
+    for (int x = 0; x < columns; ++x) {
+        msm_nlq n;
+        n.y1 = b1[x];
+        n.y2 = b2[x];
+        n.v2 = b3[x];
+        n.xi4 = 0.0f;
+#if MSM_FORMAT == MSM_FORMAT_NLQ64
+        const msm_word2 code = msm_encode_nlq64_psi_code(n, as_uint(psi_code[x]));
+        out[2 * x] = code.w0;
+        out[2 * x + 1] = code.w1;
+#else
+        out[x] = msm_encode_nlq32_psi_code(n, as_uint(psi_code[x]));
+#endif
+    }
+#else
     for (int x = 0; x < columns; ++x) {
         msm_moments m;
         m.b1 = b1[x];
@@ -255,25 +333,22 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
         out[MSM_TEXEL_WORDS * x + 2] = as_uint(m.b3);
         out[MSM_TEXEL_WORDS * x + 3] = as_uint(m.b4);
 #endif
-#elif MSM_FORMAT == MSM_FORMAT_MSM64 || MSM_FORMAT == MSM_FORMAT_NLQ64 || MSM_FORMAT == MSM_FORMAT_EVSM4_64
+#elif MSM_FORMAT == MSM_FORMAT_MSM64 || MSM_FORMAT == MSM_FORMAT_EVSM4_64
 #if MSM_FORMAT == MSM_FORMAT_MSM64
         const msm_word2 code = msm_encode_msm64(m);
-#elif MSM_FORMAT == MSM_FORMAT_NLQ64
-        const msm_word2 code = msm_encode_nlq64(cpu_nlq_from_shifted_moments(m, shift));
 #else
         const msm_word2 code = msm_pack_codes16(msm_lane_code16(m.b1), msm_lane_code16(m.b2), msm_lane_code16(m.b3),
                                                 msm_lane_code16(m.b4));
 #endif
         out[2 * x] = code.w0;
         out[2 * x + 1] = code.w1;
-#elif MSM_FORMAT == MSM_FORMAT_NLQ32
-        out[x] = msm_encode_nlq32(cpu_nlq_from_shifted_moments(m, shift));
 #elif MSM_FORMAT == MSM_FORMAT_VSM32 || MSM_FORMAT == MSM_FORMAT_EVSM2_32
         out[x] = msm_lane_code16(m.b1) | (msm_lane_code16(m.b2) << 16);
 #else
 #error "filter_fused_cpu.cl: a format without its texel encoding"
 #endif
     }
+#endif
 }
 
 #define CPU_KERNEL_ARGS                                                                                   \
@@ -312,11 +387,12 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
     const float shift = tile_shift(depth, width, height, x0, y0, first, last, rows_in, filtered);        \
     for (int r = 0; r < rows_in; ++r) {                                                                   \
         const size_t row = (size_t)clamp(y0 - CPU_GUARD + r, 0, height - 1) * width;                      \
+        prefetch_rows(depth, texture, width, height, x0, y0, first, last, columns, r, rows_in);          \
         resolve_row(depth, width, height, x0, first, last, row, shift, resolved CPU_LAYER_ARGS);          \
         blur_row(w0, w1, w2, w3, w4, resolved, ring + (r % 9) * 4 * CPU_TILE_W);                          \
         if (r < 2 * CPU_GUARD) continue;                                                                  \
         blur_column(w0, w1, w2, w3, w4, r, ring, filtered);                                               \
-        quantize_row(filtered, shift, columns,                                                            \
+        quantize_row(filtered, resolved, shift, columns,                                                         \
                      texture + ((size_t)(y0 + r - 2 * CPU_GUARD) * width + x0) * MSM_TEXEL_WORDS);       \
     }
 
