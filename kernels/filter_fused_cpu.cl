@@ -46,6 +46,17 @@
 #endif
 
 #define CPU_IN_W CPU_IN_W_OF(CPU_TILE_W)
+// The prefetch is an instruction of the CPU the kernel compiles to (PoCL's devices); a
+// kernel compiled to SPIR-V (rusticl, Oclgrind) leaves it out: the SPIR-V translator has
+// no prefetch of LLVM's (docs/devices.md).
+#if defined(__x86_64__) || defined(__i386__) || defined(__aarch64__) || defined(__arm__) || defined(__powerpc__) || \
+    defined(__riscv)
+#define CPU_CAN_PREFETCH 1
+#define cpu_prefetch(address, for_write) __builtin_prefetch((address), (for_write), 2)
+#else
+#define CPU_CAN_PREFETCH 0
+#define cpu_prefetch(address, for_write) ((void)0)
+#endif
 #ifndef CPU_PREFETCH_AHEAD
 #define CPU_PREFETCH_AHEAD 4
 #endif
@@ -66,10 +77,11 @@ static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 // The depth samples of input columns [first, last) of image row y (clamped into the image).
 static inline void prefetch_depth_row(__global const float* depth, int width, int height, int x0, int first,
                                       int last, int y) {
+    if (!CPU_CAN_PREFETCH) return;
     const size_t texel0 = (size_t)clamp(y, 0, height - 1) * width + (size_t)(x0 - CPU_GUARD);
     __global const char* begin = (__global const char*)(depth + (texel0 + first) * MSM_SAMPLES);
     __global const char* end = (__global const char*)(depth + (texel0 + last) * MSM_SAMPLES);
-    for (__global const char* line = begin; line < end; line += 64) __builtin_prefetch(line, 0, 2);
+    for (__global const char* line = begin; line < end; line += 64) cpu_prefetch(line, 0);
 }
 
 // What input row r + CPU_PREFETCH_AHEAD of the tile touches: its depth samples (the nlq
@@ -77,13 +89,13 @@ static inline void prefetch_depth_row(__global const float* depth, int width, in
 static inline void prefetch_rows(__global const float* depth, __global const uint* texture, int width, int height,
                                  int x0, int y0, int first, int last, int columns, int r, int rows_in) {
     const int ahead = r + CPU_PREFETCH_AHEAD;
-    if (ahead >= rows_in) return;
+    if (!CPU_CAN_PREFETCH || ahead >= rows_in) return;
     if (!MSM_FORMAT_SHIFTED) prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + ahead);
     if (ahead < 2 * CPU_GUARD) return;
     __global const char* begin =
         (__global const char*)(texture + ((size_t)(y0 + ahead - 2 * CPU_GUARD) * width + x0) * MSM_TEXEL_WORDS);
     __global const char* end = begin + (size_t)columns * MSM_TEXEL_WORDS * 4;
-    for (__global const char* line = begin; line < end; line += 64) __builtin_prefetch(line, 1, 2);
+    for (__global const char* line = begin; line < end; line += 64) cpu_prefetch(line, 1);
 }
 
 // The shift c of the nlq formats (docs/math.md), as in filter_fused_gpu.cl: the midrange
@@ -178,30 +190,42 @@ static inline void resolve_row(__global const float* depth, int width, int heigh
     fma(w0, v(4), fma(w1, v(3), fma(w2, v(2), fma(w3, v(1), w4 * v(0)))))))))
 
 // Step "blur", first half: horizontal 9-tap of the resolved row into ring slot `slot`
-// (output column x reads input columns x .. x + 8).
-#define CPU_AT_H(i) in[x + (i)]
+// (output column x reads input columns x .. x + 8). The four planes in one loop body: four
+// independent chains of nine dependent FMAs, which the core overlaps (a loop per plane
+// waited for each chain at its end).
+#define CPU_AT_H(j, i) resolved[(j) * CPU_IN_W + x + (i)]
+#define CPU_AT_H0(i) CPU_AT_H(0, i)
+#define CPU_AT_H1(i) CPU_AT_H(1, i)
+#define CPU_AT_H2(i) CPU_AT_H(2, i)
+#define CPU_AT_H3(i) CPU_AT_H(3, i)
 static inline void blur_row(float w0, float w1, float w2, float w3, float w4, __local const float* restrict resolved,
                             __local float* restrict slot) {
-#pragma unroll
-    for (int j = 0; j < 4; ++j) {
-        __local const float* restrict in = resolved + j * CPU_IN_W;
-        __local float* restrict out = slot + j * CPU_TILE_W;
-        for (int x = 0; x < CPU_TILE_W; ++x) out[x] = CPU_TAPS9(CPU_AT_H);
+    for (int x = 0; x < CPU_TILE_W; ++x) {
+        slot[x] = CPU_TAPS9(CPU_AT_H0);
+        slot[CPU_TILE_W + x] = CPU_TAPS9(CPU_AT_H1);
+        slot[2 * CPU_TILE_W + x] = CPU_TAPS9(CPU_AT_H2);
+        slot[3 * CPU_TILE_W + x] = CPU_TAPS9(CPU_AT_H3);
     }
 }
 
 // Step "blur", second half: vertical 9-tap over the ring, oldest row first (ring slot of
-// input row r - 8 + i is (r + 1 + i) % 9), into the `filtered` planes.
-#define CPU_AT_V(i) rows[i][x]
+// input row r - 8 + i is (r + 1 + i) % 9), into the `filtered` planes, the four planes in
+// one loop body as above.
+#define CPU_AT_V(j, i) rows[i][(j) * CPU_TILE_W + x]
+#define CPU_AT_V0(i) CPU_AT_V(0, i)
+#define CPU_AT_V1(i) CPU_AT_V(1, i)
+#define CPU_AT_V2(i) CPU_AT_V(2, i)
+#define CPU_AT_V3(i) CPU_AT_V(3, i)
 static inline void blur_column(float w0, float w1, float w2, float w3, float w4, int r,
                                __local const float* restrict ring, __local float* restrict filtered) {
+    __local const float* rows[9];
 #pragma unroll
-    for (int j = 0; j < 4; ++j) {
-        __local const float* rows[9];
-#pragma unroll
-        for (int i = 0; i < 9; ++i) rows[i] = ring + ((r + 1 + i) % 9) * 4 * CPU_TILE_W + j * CPU_TILE_W;
-        __local float* restrict out = filtered + j * CPU_TILE_W;
-        for (int x = 0; x < CPU_TILE_W; ++x) out[x] = CPU_TAPS9(CPU_AT_V);
+    for (int i = 0; i < 9; ++i) rows[i] = ring + ((r + 1 + i) % 9) * 4 * CPU_TILE_W;
+    for (int x = 0; x < CPU_TILE_W; ++x) {
+        filtered[x] = CPU_TAPS9(CPU_AT_V0);
+        filtered[CPU_TILE_W + x] = CPU_TAPS9(CPU_AT_V1);
+        filtered[2 * CPU_TILE_W + x] = CPU_TAPS9(CPU_AT_V2);
+        filtered[3 * CPU_TILE_W + x] = CPU_TAPS9(CPU_AT_V3);
     }
 }
 
