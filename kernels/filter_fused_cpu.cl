@@ -57,6 +57,7 @@
 #define CPU_CAN_PREFETCH 0
 #define cpu_prefetch(address, for_write) ((void)0)
 #endif
+#define CPU_PREFETCH_PARTS 4
 #ifndef CPU_PREFETCH_AHEAD
 #define CPU_PREFETCH_AHEAD 4
 #endif
@@ -73,29 +74,41 @@ static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 // Asks the caches for memory a few rows before the loops touch it (CPU_PREFETCH_AHEAD
 // rows, into the second-level cache): each tile row is a stretch of its own, too short for
 // the hardware prefetcher to ramp up, so without it the resolve (or the nlq formats' shift)
-// waited for the depth samples and each store for its cache line (docs/devices.md).
+// waited for the depth samples and each store for its cache line (docs/devices.md). A row's
+// lines are asked for in CPU_PREFETCH_PARTS parts, one before each step: all at once, they
+// filled the core's queue of outstanding misses and the prefetches themselves waited.
+// Part `part` of the cache lines of [begin, end).
+static inline void prefetch_part(__global const char* begin, __global const char* end, int part, int for_write) {
+    const size_t lines = ((size_t)(end - begin) + 63) / 64;
+    const size_t first = lines * part / CPU_PREFETCH_PARTS, last = lines * (part + 1) / CPU_PREFETCH_PARTS;
+    for (size_t line = first; line < last; ++line) {
+        if (for_write)
+            cpu_prefetch(begin + 64 * line, 1);
+        else
+            cpu_prefetch(begin + 64 * line, 0);
+    }
+}
+
 // The depth samples of input columns [first, last) of image row y (clamped into the image).
 static inline void prefetch_depth_row(__global const float* depth, int width, int height, int x0, int first,
-                                      int last, int y) {
+                                      int last, int y, int part) {
     if (!CPU_CAN_PREFETCH) return;
     const size_t texel0 = (size_t)clamp(y, 0, height - 1) * width + (size_t)(x0 - CPU_GUARD);
-    __global const char* begin = (__global const char*)(depth + (texel0 + first) * MSM_SAMPLES);
-    __global const char* end = (__global const char*)(depth + (texel0 + last) * MSM_SAMPLES);
-    for (__global const char* line = begin; line < end; line += 64) cpu_prefetch(line, 0);
+    prefetch_part((__global const char*)(depth + (texel0 + first) * MSM_SAMPLES),
+                  (__global const char*)(depth + (texel0 + last) * MSM_SAMPLES), part, 0);
 }
 
 // What input row r + CPU_PREFETCH_AHEAD of the tile touches: its depth samples (the nlq
 // formats' shift has read them all before), and its output row's texels, to write.
 static inline void prefetch_rows(__global const float* depth, __global const uint* texture, int width, int height,
-                                 int x0, int y0, int first, int last, int columns, int r, int rows_in) {
+                                 int x0, int y0, int first, int last, int columns, int r, int rows_in, int part) {
     const int ahead = r + CPU_PREFETCH_AHEAD;
     if (!CPU_CAN_PREFETCH || ahead >= rows_in) return;
-    if (!MSM_FORMAT_SHIFTED) prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + ahead);
+    if (!MSM_FORMAT_SHIFTED) prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + ahead, part);
     if (ahead < 2 * CPU_GUARD) return;
     __global const char* begin =
         (__global const char*)(texture + ((size_t)(y0 + ahead - 2 * CPU_GUARD) * width + x0) * MSM_TEXEL_WORDS);
-    __global const char* end = begin + (size_t)columns * MSM_TEXEL_WORDS * 4;
-    for (__global const char* line = begin; line < end; line += 64) cpu_prefetch(line, 1);
+    prefetch_part(begin, begin + (size_t)columns * MSM_TEXEL_WORDS * 4, part, 1);
 }
 
 // The shift c of the nlq formats (docs/math.md), as in filter_fused_gpu.cl: the midrange
@@ -116,7 +129,9 @@ static inline float tile_shift(__global const float* depth, int width, int heigh
     }
     for (int k = 0; k < rows_in; ++k) {
         if (k + CPU_PREFETCH_AHEAD < rows_in)
-            prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + k + CPU_PREFETCH_AHEAD);
+            for (int part = 0; part < CPU_PREFETCH_PARTS; ++part)
+                prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + k + CPU_PREFETCH_AHEAD,
+                                   part);
         const size_t row = (size_t)clamp(y0 - CPU_GUARD + k, 0, height - 1) * width;
         __global const float* texels = depth + (row + (size_t)(x0 - CPU_GUARD)) * MSM_SAMPLES;
         for (int x = first; x < last; ++x) {
@@ -396,6 +411,8 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
 // Both kernels: the tile of this group. Input rows 0..7 only fill the ring; each later row
 // gives one output row, as many as the tile has inside the image. `border` is a constant
 // at each use: the interior kernel's loops run over all columns with constant bounds.
+#define CPU_PREFETCH_PART(part)                                                                           \
+    prefetch_rows(depth, texture, width, height, x0, y0, first, last, columns, r, rows_in, part)
 #define CPU_FILTER_TILE(BORDER)                                                                           \
     __local float resolved[CPU_RESOLVED_ENTRIES(CPU_TILE_W)];                                             \
     __local float ring[CPU_RING_ENTRIES(CPU_TILE_W)];                                                     \
@@ -411,11 +428,17 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
     const float shift = tile_shift(depth, width, height, x0, y0, first, last, rows_in, filtered);        \
     for (int r = 0; r < rows_in; ++r) {                                                                   \
         const size_t row = (size_t)clamp(y0 - CPU_GUARD + r, 0, height - 1) * width;                      \
-        prefetch_rows(depth, texture, width, height, x0, y0, first, last, columns, r, rows_in);          \
+        CPU_PREFETCH_PART(0);                                                                             \
         resolve_row(depth, width, height, x0, first, last, row, shift, resolved CPU_LAYER_ARGS);          \
+        CPU_PREFETCH_PART(1);                                                                             \
         blur_row(w0, w1, w2, w3, w4, resolved, ring + (r % 9) * 4 * CPU_TILE_W);                          \
-        if (r < 2 * CPU_GUARD) continue;                                                                  \
+        CPU_PREFETCH_PART(2);                                                                             \
+        if (r < 2 * CPU_GUARD) {                                                                          \
+            CPU_PREFETCH_PART(3);                                                                         \
+            continue;                                                                                     \
+        }                                                                                                 \
         blur_column(w0, w1, w2, w3, w4, r, ring, filtered);                                               \
+        CPU_PREFETCH_PART(3);                                                                             \
         quantize_row(filtered, resolved, shift, columns,                                                         \
                      texture + ((size_t)(y0 + r - 2 * CPU_GUARD) * width + x0) * MSM_TEXEL_WORDS);       \
     }
