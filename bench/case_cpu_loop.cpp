@@ -35,6 +35,8 @@ namespace msmcl::bench {
 namespace {
 
 constexpr int kGuard = 4;
+// Floats between the rows of the ring (one cache line, see filter_band).
+constexpr int kRingPad = 16;
 
 // ---- Per-texel math, inline and branch-free (each is used inside `omp simd` loops).
 
@@ -444,10 +446,13 @@ void filter_band(const Job& job, int y_begin, int y_end) {
     const std::size_t padded = static_cast<std::size_t>(width) + 2 * kGuard;
     // The band's rows: one resolved row, the ring of 9 blurred rows, one filtered row.
     std::vector<float> resolved(kLanes * padded);
-    std::vector<float> ring(9 * kLanes * static_cast<std::size_t>(width));
+    // Ring rows a cache line more than a row apart: at power-of-two widths, rows 8 KiB apart
+    // fell into the same L1 set and the vertical pass's nine rows evicted each other.
+    const std::size_t ring_stride = static_cast<std::size_t>(width) + kRingPad;
+    std::vector<float> ring(9 * kLanes * ring_stride);
     std::vector<float> filtered(4 * static_cast<std::size_t>(width)), nlq_values(4 * static_cast<std::size_t>(width));
     const auto ring_row = [&](int slot, int j) {
-        return ring.data() + (static_cast<std::size_t>(slot) * kLanes + j) * width;
+        return ring.data() + (static_cast<std::size_t>(slot) * kLanes + j) * ring_stride;
     };
     float* planes[4];
     float* nlq[4];
