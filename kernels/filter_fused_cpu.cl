@@ -46,21 +46,12 @@
 #endif
 
 #define CPU_IN_W CPU_IN_W_OF(CPU_TILE_W)
-// The prefetch is an instruction of the CPU the kernel compiles to (PoCL's devices); a
-// kernel compiled to SPIR-V (rusticl, Oclgrind) leaves it out: the SPIR-V translator has
-// no prefetch of LLVM's (docs/devices.md).
-#if defined(__x86_64__) || defined(__i386__) || defined(__aarch64__) || defined(__arm__) || defined(__powerpc__) || \
-    defined(__riscv)
-#define CPU_CAN_PREFETCH 1
-#define cpu_prefetch(address, for_write) __builtin_prefetch((address), (for_write), 2)
-#else
-#define CPU_CAN_PREFETCH 0
-#define cpu_prefetch(address, for_write) ((void)0)
-#endif
-#define CPU_PREFETCH_PARTS 4
+// Rows the prefetch (prefetch_part) runs ahead, a build option for experiments, and the
+// parts a row's prefetches are split into.
 #ifndef CPU_PREFETCH_AHEAD
 #define CPU_PREFETCH_AHEAD 4
 #endif
+#define CPU_PREFETCH_PARTS 4
 
 // Origin of this group's output tile. Interior groups: tile column ix0 + group x; border
 // groups: the tile columns left of ix0, then those from ix1 on. Tile row = group y.
@@ -72,9 +63,10 @@ static inline int tile_x0(int border, int ix0, int ix1) {
 static inline int tile_y0(void) { return (int)get_group_id(1) * CPU_TILE_H; }
 
 // Asks the caches for memory a few rows before the loops touch it (CPU_PREFETCH_AHEAD
-// rows, into the second-level cache): each tile row is a stretch of its own, too short for
+// rows, into the second-level cache; msm_prefetch of msm_portable.clh, where the kernel
+// compiles to a CPU's instructions): each tile row is a stretch of its own, too short for
 // the hardware prefetcher to ramp up, so without it the resolve (or the nlq formats' shift)
-// waited for the depth samples and each store for its cache line (docs/devices.md). A row's
+// waited for the depth samples and each store for its cache line (docs/kernels.md). A row's
 // lines are asked for in CPU_PREFETCH_PARTS parts, one before each step: all at once, they
 // filled the core's queue of outstanding misses and the prefetches themselves waited.
 // Part `part` of the cache lines of [begin, end).
@@ -83,16 +75,16 @@ static inline void prefetch_part(__global const char* begin, __global const char
     const size_t first = lines * part / CPU_PREFETCH_PARTS, last = lines * (part + 1) / CPU_PREFETCH_PARTS;
     for (size_t line = first; line < last; ++line) {
         if (for_write)
-            cpu_prefetch(begin + 64 * line, 1);
+            msm_prefetch(begin + 64 * line, 1, 2);
         else
-            cpu_prefetch(begin + 64 * line, 0);
+            msm_prefetch(begin + 64 * line, 0, 2);
     }
 }
 
 // The depth samples of input columns [first, last) of image row y (clamped into the image).
 static inline void prefetch_depth_row(__global const float* depth, int width, int height, int x0, int first,
                                       int last, int y, int part) {
-    if (!CPU_CAN_PREFETCH) return;
+    if (!MSM_CAN_PREFETCH) return;
     const size_t texel0 = (size_t)clamp(y, 0, height - 1) * width + (size_t)(x0 - CPU_GUARD);
     prefetch_part((__global const char*)(depth + (texel0 + first) * MSM_SAMPLES),
                   (__global const char*)(depth + (texel0 + last) * MSM_SAMPLES), part, 0);
@@ -103,7 +95,7 @@ static inline void prefetch_depth_row(__global const float* depth, int width, in
 static inline void prefetch_rows(__global const float* depth, __global const uint* texture, int width, int height,
                                  int x0, int y0, int first, int last, int columns, int r, int rows_in, int part) {
     const int ahead = r + CPU_PREFETCH_AHEAD;
-    if (!CPU_CAN_PREFETCH || ahead >= rows_in) return;
+    if (!MSM_CAN_PREFETCH || ahead >= rows_in) return;
     if (!MSM_FORMAT_SHIFTED) prefetch_depth_row(depth, width, height, x0, first, last, y0 - CPU_GUARD + ahead, part);
     if (ahead < 2 * CPU_GUARD) return;
     __global const char* begin =
@@ -303,11 +295,11 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 // `out` (the row's first texel), `columns` of them (the tile's columns inside the image).
 // The words of msm_store_texel (msm_formats.clh), written as scalar stores: a vector value
 // in the loop body (vstore2, vstore4) stops the vectorization along x.
-// The nlq formats take three loops over the row, through the `filtered` planes: Algorithm
-// 2 in place (b1..b4 -> y1, y2, v2, xi4), the Psi4 code in place of xi4 (its bits), then
-// the words. Each body is short enough that the core overlaps the long division and
-// logarithm chains of several iterations; in one body the nlq formats ran at half the
-// speed (docs/devices.md).
+// The nlq formats take four loops over the row: Algorithm 2 in place in the `filtered`
+// planes (b1..b4 -> y1, y2, v2, xi4), Psi4 rounded up into `scratch` (the code's bits), its
+// check, then the words. Each body is short enough that the core overlaps the division and
+// logarithm chains of several iterations (the first three unrolled by two for that); in one
+// body the nlq formats took 1.7x the time (docs/kernels.md).
 static inline __attribute__((always_inline, flatten)) void quantize_row(__local float* restrict filtered,
                                                                         __local float* restrict scratch,
                                                                         float shift, int columns,
@@ -346,7 +338,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
         n.y1 = b1[x];
         n.y2 = b2[x];
         n.v2 = b3[x];
-        n.xi4 = 0.0f;
+        n.xi4 = 0.0f; // not read: its code is psi_code[x]
 #if MSM_FORMAT == MSM_FORMAT_NLQ64
         const msm_word2 code = msm_encode_nlq64_psi_code(n, as_uint(psi_code[x]));
         out[2 * x] = code.w0;
@@ -439,7 +431,7 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
         }                                                                                                 \
         blur_column(w0, w1, w2, w3, w4, r, ring, filtered);                                               \
         CPU_PREFETCH_PART(3);                                                                             \
-        quantize_row(filtered, resolved, shift, columns,                                                         \
+        quantize_row(filtered, resolved, shift, columns,                                                  \
                      texture + ((size_t)(y0 + r - 2 * CPU_GUARD) * width + x0) * MSM_TEXEL_WORDS);       \
     }
 

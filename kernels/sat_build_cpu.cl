@@ -63,14 +63,14 @@ typedef uint16 uint16_at4 __attribute__((aligned(4)));
 #endif
 // A software prefetch of the cache lines `lines` * 64 bytes from p, PREFETCH_BYTES ahead:
 // the band walks are one long stream each, but with the arithmetic between its loads the
-// core stalls on them (2048^2, S = 8: step 1 9.2 -> 6.9 ms); clang's __builtin_prefetch
-// (PoCL's prefetch() emits nothing), on CPU targets only (PoCL compiles for the host's,
-// x86-64 or Arm): GPU back ends need not lower it, and the kernel also runs there on request.
+// core stalls on them (2048^2, S = 8: step 1 9.2 -> 6.9 ms); msm_prefetch where the kernel
+// compiles to a CPU's instructions (msm_portable.clh), OpenCL's prefetch() elsewhere (the
+// kernel also runs on other devices on request).
 #define PREFETCH_BYTES 4096
-#if defined(__clang__) && (defined(__x86_64__) || defined(__i386__) || defined(__aarch64__) || defined(__arm__))
+#if MSM_CAN_PREFETCH
 #define PREFETCH_AHEAD(p, lines)                                                                       \
     _Pragma("unroll") for (int line = 0; line < (lines); ++line)                                       \
-        __builtin_prefetch((const __global char*)(p) + PREFETCH_BYTES + 64 * line, 0, 3)
+        msm_prefetch((const __global char*)(p) + PREFETCH_BYTES + 64 * line, 0, 3)
 #else
 #define PREFETCH_AHEAD(p, lines) prefetch((const __global char*)(p) + PREFETCH_BYTES, (size_t)(64 * (lines)))
 #endif
