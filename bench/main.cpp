@@ -8,6 +8,8 @@
 #include "probe.hpp"
 #include "scene.hpp"
 
+#include "runtime/texture_kinds.hpp"
+
 #include <msmcl/context.hpp>
 #include <msmcl/errors.hpp>
 #include <msmcl/filter.hpp>
@@ -115,7 +117,10 @@ int main(int argc, char** argv) {
     app.add_option("--size", size, "map width = height in texels; without it the full sweep 512..4096")
         ->check(CLI::Range(1, 16384));
     app.add_option("--samples", samples, "samples per texel (1, 2, 4, 8, 16); default: sweep 1, 4, 8");
-    app.add_option("--format", format_text, "moments128|msm64|nlq64|nlq32; default: every format");
+    std::string format_list;
+    for (Format format : detail::filter_formats())
+        format_list += (format_list.empty() ? "" : "|") + std::string(format_name(format));
+    app.add_option("--format", format_text, format_list + "; default: the four moment formats");
     app.add_option("--device", device, "OpenCL device spec (gpu, cpu, index, P:D or a name substring)");
     app.add_option("--reps", reps, "timed repetitions per case (default 10, 7, 5, 2 from 512^2 to 4096^2)")
         ->check(CLI::Range(1, 10000));

@@ -56,8 +56,9 @@ receivers = os.path.join(data_dir, "railing_view_160x120.exr")
 with tempfile.TemporaryDirectory(prefix="msmcl_json_schema_") as work:
     # Every format in every container, tables in every container (one batch each, from
     # JSON manifests of an output and options per entry), a shadow.
+    formats = [name for name in info_schema.schema["definitions"]["format"]["enum"] if name != "sat"]
     maps = [{"input": depth, "format": format, "output": os.path.join(work, f"{format}.{container}")}
-            for container in ("exr", "ktx2", "dds") for format in ("moments128", "msm64", "nlq64", "nlq32")]
+            for container in ("exr", "ktx2", "dds") for format in formats]
     tables = [{"input": depth, "output": os.path.join(work, f"sat.{container}")} for container in ("exr", "ktx2", "dds")]
     for command, entries, options in (("filter", maps, []), ("sat", tables, ["--max-kernel", "100"])):
         manifest, summary_path = os.path.join(work, f"{command}.json"), os.path.join(work, f"{command}_summary.json")
@@ -88,6 +89,14 @@ with tempfile.TemporaryDirectory(prefix="msmcl_json_schema_") as work:
               f"msm64.{container}: samples 4 as a number")
         check(isinstance(record["attributes"]["msmcl:sigma"], (int, float)), f"msm64.{container}: sigma a number")
     check(by_name["msm64.dds"]["samples"] is None, "msm64.dds: samples unknown (null)")
+    # Each representation's maps are called what they are.
+    for format, kind in (("nlq32", "moment shadow map"), ("vsm64", "variance shadow map"),
+                         ("evsm4_64", "exponential variance shadow map"), ("esm32", "exponential shadow map")):
+        for container in ("exr", "ktx2", "dds"):
+            check(by_name[f"{format}.{container}"]["kind"] == kind, f"{format}.{container}: kind {kind}")
+    # Every format the schema lists is one `msmcl filter` writes and `info` recognizes.
+    for format in formats:
+        check(by_name[f"{format}.exr"]["format"] == format, f"{format}.exr: format {format}")
 
     # A batch with a missing and a damaged input: the summary of every file.
     damaged = os.path.join(work, "damaged.exr")

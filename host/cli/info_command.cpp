@@ -69,6 +69,11 @@ struct ChannelStats {
 
 using Range = std::optional<std::pair<double, double>>;
 
+// What `info` calls a filtered map of `format`: its representation's kind of shadow map.
+std::string map_kind(Format format) {
+    return detail::representation_info(detail::representation_of(format)).map_kind;
+}
+
 ChannelStats stats_of(const std::string& name, const std::string& type, Range range, const std::vector<float>& values) {
     ChannelStats stats{name, type, range};
     for (float value : values) stats.add(value);
@@ -158,8 +163,8 @@ json describe_exr(const std::string& path, DepthRange depth_range) {
         } catch (const input_error& e) {
             info["problem"] = e.what();
         }
-    } else if (parse_format(format_text)) {
-        info["kind"] = "moment shadow map";
+    } else if (const std::optional<Format> format = parse_format(format_text)) {
+        info["kind"] = map_kind(*format);
         info["format"] = format_text;
         try {
             const io::TextureFile map = io::read_texture_exr(path);
@@ -204,7 +209,7 @@ json describe_exr(const std::string& path, DepthRange depth_range) {
         else if (kind == "shadow intensity" && name == "Y") range = std::make_pair(0.0, 1.0);
         else if (kind == "radiance" && name == "Y") range = std::make_pair(0.0, std::numeric_limits<double>::max());
         else if ((kind == "receivers") && (name == "PX" || name == "PY")) range = std::make_pair(0.0, 16777216.0);
-        else if (kind == "moment shadow map" && channel.type == io::SampleType::uint32 && format_text != "nlq32")
+        else if (parse_format(format_text) && channel.type == io::SampleType::uint32 && format_text != "nlq32")
             range = std::make_pair(0.0, 65535.0);
         channels.push_back((channel.type == io::SampleType::uint32 ? stats_of(name, range, channel.codes)
                                                                    : stats_of(name, type_name(channel.type), range,
@@ -271,12 +276,15 @@ json describe_gpu_file(const std::string& path, Container container) {
         info["channels"] = json::array({r.to_json(), g.to_json(), b.to_json()});
         return info;
     }
-    info["kind"] = "moment shadow map";
-    std::optional<Format> format = recorded ? parse_format(*recorded) : std::nullopt;
-    if (const std::vector<Format> candidates = detail::formats_with(image.format); !format && candidates.size() == 1)
-        format = candidates.front();
-    if (!format) {
-        // msm64 and nlq64 share the texel type: describe the raw 16-bit codes.
+    // The format: the recorded one, else the only one with this texel type; msm64 and nlq64
+    // share theirs (both moment shadow maps), and a DDS file records none.
+    const std::vector<Format> candidates = detail::formats_with(image.format);
+    const std::optional<Format> recorded_format = recorded ? parse_format(*recorded) : std::nullopt;
+    const bool known = recorded_format.has_value() || candidates.size() == 1;
+    const Format format = recorded_format.value_or(candidates.size() == 1 ? candidates.front() : Format::msm64);
+    info["kind"] = map_kind(format);
+    if (!known) {
+        // Describe the raw 16-bit codes.
         info["format"] = nullptr;
         info["candidates"] = json::array({format_name(Format::msm64), format_name(Format::nlq64)});
         ChannelStats codes[4] = {{"R", "unorm16", std::make_pair(0.0, 65535.0)},
@@ -289,9 +297,9 @@ json describe_gpu_file(const std::string& path, Container container) {
         for (const ChannelStats& s : codes) info["channels"].push_back(s.to_json());
         return info;
     }
-    info["format"] = format_name(*format);
+    info["format"] = format_name(format);
     try {
-        info["channels"] = texture_channels(io::texture_of(image, *format, path));
+        info["channels"] = texture_channels(io::texture_of(image, format, path));
     } catch (const input_error& e) {
         info["problem"] = e.what();
     }

@@ -89,13 +89,14 @@ struct RepresentationInfo {
     const char* name;            ///< "moments", "vsm", ...
     const char* kernel_constant; ///< MSM_REPRESENTATION_MOMENTS, ...
     std::uint32_t lanes;         ///< values per sample the filter averages and blurs (of its 4 lanes)
+    const char* map_kind;        ///< what `msmcl info` calls a map of it: "moment shadow map", ...
 };
 inline constexpr RepresentationInfo kRepresentations[] = {
-    {Representation::moments, "moments", "MSM_REPRESENTATION_MOMENTS", 4},
-    {Representation::vsm, "vsm", "MSM_REPRESENTATION_VSM", 2},
-    {Representation::evsm2, "evsm2", "MSM_REPRESENTATION_EVSM2", 2},
-    {Representation::evsm4, "evsm4", "MSM_REPRESENTATION_EVSM4", 4},
-    {Representation::esm, "esm", "MSM_REPRESENTATION_ESM", 1},
+    {Representation::moments, "moments", "MSM_REPRESENTATION_MOMENTS", 4, "moment shadow map"},
+    {Representation::vsm, "vsm", "MSM_REPRESENTATION_VSM", 2, "variance shadow map"},
+    {Representation::evsm2, "evsm2", "MSM_REPRESENTATION_EVSM2", 2, "exponential variance shadow map"},
+    {Representation::evsm4, "evsm4", "MSM_REPRESENTATION_EVSM4", 4, "exponential variance shadow map"},
+    {Representation::esm, "esm", "MSM_REPRESENTATION_ESM", 1, "exponential shadow map"},
 };
 inline const RepresentationInfo& representation_info(Representation representation) noexcept {
     return kRepresentations[static_cast<std::size_t>(representation)];
