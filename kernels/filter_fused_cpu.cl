@@ -298,18 +298,19 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
 // The nlq formats take four loops over the row: Algorithm 2 in place in the `filtered`
 // planes (b1..b4 -> y1, y2, v2, xi4), Psi4 rounded up into `scratch` (the code's bits), its
 // check, then the words. Each body is short enough that the core overlaps the division and
-// logarithm chains of several iterations (the first three unrolled by two for that); in one
-// body the nlq formats took 1.7x the time (docs/kernels.md).
-static inline __attribute__((always_inline, flatten)) void quantize_row(__local float* restrict filtered,
-                                                                        __local float* restrict scratch,
-                                                                        float shift, int columns,
-                                                                        __global uint* restrict out) {
+// logarithm chains of several iterations; in one body the nlq formats took 1.7x the time.
+// The first three are vectorized 16 wide (512 bits where the CPU has them: min_vector_width
+// lets the compiler keep such vectors, which PoCL's LLVM otherwise splits into 256-bit
+// halves) and unrolled by two: each costs fewer instructions per texel (docs/kernels.md).
+static inline __attribute__((always_inline, flatten, min_vector_width(512))) void
+quantize_row(__local float* restrict filtered, __local float* restrict scratch, float shift, int columns,
+             __global uint* restrict out) {
     __local float* restrict b1 = filtered;
     __local float* restrict b2 = filtered + CPU_TILE_W;
     __local float* restrict b3 = filtered + 2 * CPU_TILE_W;
     __local float* restrict b4 = filtered + 3 * CPU_TILE_W;
 #if MSM_FORMAT_SHIFTED
-#pragma clang loop interleave_count(2)
+#pragma clang loop vectorize_width(16) interleave_count(2)
     for (int x = 0; x < columns; ++x) {
         msm_moments m;
         m.b1 = b1[x];
@@ -328,9 +329,9 @@ static inline __attribute__((always_inline, flatten)) void quantize_row(__local 
 #define CPU_PSI_CODE_MAX 63.0f
 #endif
     __local float* restrict psi_code = scratch;
-#pragma clang loop interleave_count(2)
+#pragma clang loop vectorize_width(16) interleave_count(2)
     for (int x = 0; x < columns; ++x) psi_code[x] = as_float(msm_psi4_code_up(b4[x], CPU_PSI_CODE_MAX));
-#pragma clang loop interleave_count(2)
+#pragma clang loop vectorize_width(16) interleave_count(2)
     for (int x = 0; x < columns; ++x)
         psi_code[x] = as_float(msm_psi4_code_checked(as_uint(psi_code[x]), b4[x], CPU_PSI_CODE_MAX));
     for (int x = 0; x < columns; ++x) {
