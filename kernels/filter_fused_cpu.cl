@@ -290,6 +290,17 @@ static inline __attribute__((always_inline)) msm_nlq cpu_nlq_from_shifted_moment
     return n;
 }
 
+// Column x's four filtered moments, one from each plane.
+static inline msm_moments filtered_moments(__local const float* restrict b1, __local const float* restrict b2,
+                                           __local const float* restrict b3, __local const float* restrict b4,
+                                           int x) {
+    msm_moments m;
+    m.b1 = b1[x];
+    m.b2 = b2[x];
+    m.b3 = b3[x];
+    m.b4 = b4[x];
+    return m;
+}
 
 // Step "quantize": the filtered texels of one output row into the format's words at
 // `out` (the row's first texel), `columns` of them (the tile's columns inside the image).
@@ -312,11 +323,7 @@ quantize_row(__local float* restrict filtered, __local float* restrict scratch, 
 #if MSM_FORMAT_SHIFTED
 #pragma clang loop vectorize_width(16) interleave_count(2)
     for (int x = 0; x < columns; ++x) {
-        msm_moments m;
-        m.b1 = b1[x];
-        m.b2 = b2[x];
-        m.b3 = b3[x];
-        m.b4 = b4[x];
+        const msm_moments m = filtered_moments(b1, b2, b3, b4, x);
         const msm_nlq n = cpu_nlq_from_shifted_moments(m, shift);
         b1[x] = n.y1;
         b2[x] = n.y2;
@@ -350,11 +357,7 @@ quantize_row(__local float* restrict filtered, __local float* restrict scratch, 
     }
 #else
     for (int x = 0; x < columns; ++x) {
-        msm_moments m;
-        m.b1 = b1[x];
-        m.b2 = b2[x];
-        m.b3 = b3[x];
-        m.b4 = b4[x];
+        const msm_moments m = filtered_moments(b1, b2, b3, b4, x);
 #if MSM_FLOAT_TEXELS
         // Float texels are the filtered lanes' bits, the format's first MSM_TEXEL_WORDS lanes.
         out[MSM_TEXEL_WORDS * x] = as_uint(m.b1);
