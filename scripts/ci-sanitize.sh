@@ -29,7 +29,8 @@ done
 # label `rusticl` covers Mesa's). Where mesa-opencl-icd is installed, the ICD loader opens
 # rusticl, which dlopens its gallium driver (pipe_swrast.so) while listing platforms and
 # dlcloses it before exit: a block that driver still held is then reported as a leak from
-# an "<unknown module>", which no suppression can name.
+# an "<unknown module>", which no suppression can name (and Mesa needs none of
+# scripts/sanitizers/lsan.supp).
 pocl_icd=/etc/OpenCL/vendors/pocl.icd
 if [ -e "$pocl_icd" ]; then export OCL_ICD_VENDORS="$pocl_icd"; fi
 
@@ -42,7 +43,7 @@ echo "ci-sanitize: ASan+UBSan build $(( $(date +%s) - start )) s"
 # TLS block whose address falls at a certain offset in its page for glibc 2.19's layout
 # and reads a bogus range from the words before it; LeakSanitizer's tracer then dies on
 # SIGSEGV at exit ("Tracer caught signal 11"), as `msmcl shade` did here with clang-15.
-# Without the hook the dynamic TLS blocks are still found through glibc's heap.
+# glibc allocates dynamic TLS blocks with malloc, so LeakSanitizer still sees them.
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1:intercept_tls_get_addr=0"
 export LSAN_OPTIONS="suppressions=$PWD/scripts/sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
